@@ -1,0 +1,42 @@
+#pragma once
+/// \file Reading PLY/PCD into PointData and writing PointData as PLY, through PCL's readers and
+/// writers. All failures throw RunError naming the file.
+
+#include "slipfit/pipeline/point_data.h"
+
+#include <array>
+#include <string>
+#include <string_view>
+
+namespace slipfit::pipeline {
+
+/// What to do with points that have a NaN/inf coordinate (organized scans mark missing depth so).
+enum class NanPolicy { error, skip };
+constexpr std::array<std::pair<NanPolicy, std::string_view>, 2> kNanPolicyNames{{
+    {NanPolicy::error, "error"},
+    {NanPolicy::skip, "skip"},
+}};
+
+struct ReadReport {
+  std::size_t points_read = 0;    ///< points in the file
+  std::size_t dropped = 0;        ///< points dropped for non-finite coordinates or normals
+  bool normals = false;           ///< the file has (finite) normals
+  std::string extra_fields;       ///< the names of the fields carried through, comma separated
+};
+
+/// Reads a .ply (ascii or binary) or .pcd file. Coordinates and normals of any numeric type
+/// become float; normals are recognised as normal_x/normal_y/normal_z (PLY nx/ny/nz); every
+/// other field is kept in PointData::extra with its own type. Throws RunError on a missing,
+/// unreadable, truncated or empty file, a file without x/y/z, or non-finite values under
+/// NanPolicy::error.
+PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report = nullptr);
+
+/// Writes every point with its normals (when present), curvature (when computed), the extra fields
+/// and the stage fields as one PLY vertex element, in binary or ascii. Writes \a path directly;
+/// use OutputFiles for the all-or-nothing behaviour.
+void writeCloudPly(const PointData& data, const std::string& path, bool binary);
+
+/// The PCLPointCloud2 that writeCloudPly writes (exposed for tests and other writers).
+pcl::PCLPointCloud2 toBlob(const PointData& data);
+
+}  // namespace slipfit::pipeline

@@ -1,0 +1,69 @@
+#pragma once
+/// \file Loading a YAML pipeline: parse, apply --set overrides, validate every stage before any
+/// runs. Every error is a ConfigError that names file:line:column, the stage tag and the key.
+
+#include "slipfit/pipeline/cloud_io.h"
+#include "slipfit/pipeline/options.h"
+#include "slipfit/pipeline/stage.h"
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace slipfit::pipeline {
+
+/// The `input:` section.
+struct InputSection {
+  std::string path;
+  NanPolicy nan = NanPolicy::error;
+  void declare(OptionSet& options);
+};
+
+enum class PlyEncoding { binary, ascii };
+constexpr std::array<std::pair<PlyEncoding, std::string_view>, 2> kPlyEncodingNames{{
+    {PlyEncoding::binary, "binary"},
+    {PlyEncoding::ascii, "ascii"},
+}};
+
+/// The `output:` section.
+struct OutputSection {
+  std::string dir = "out";
+  PlyEncoding format = PlyEncoding::binary;
+  std::string cloud = "cloud.ply";
+  void declare(OptionSet& options);
+};
+
+/// Top-level settings besides the sections.
+struct RunSettings {
+  int threads = 0;
+  std::uint64_t seed = 1;
+  void declare(OptionSet& options);
+};
+
+struct ConfiguredStage {
+  std::string type;
+  std::string tag;
+  std::string where;  ///< "file:line:col" of the stage entry
+  std::unique_ptr<Stage> stage;
+};
+
+struct PipelineConfig {
+  std::string path;
+  InputSection input;
+  OutputSection output;
+  RunSettings settings;
+  std::vector<ConfiguredStage> stages;
+};
+
+/// Loads and validates \a path with "KEY=VALUE" \a overrides (KEY: input.X, output.X, threads,
+/// seed or TAG.OPTION). Throws ConfigError.
+PipelineConfig loadConfig(const std::string& path, const std::vector<std::string>& overrides);
+
+/// Checks that each stage's inputs are available when it runs, given the data bits the input
+/// provides. Returns "" or the problem.
+std::string checkDataFlow(const PipelineConfig& config, unsigned input_bits);
+
+}  // namespace slipfit::pipeline

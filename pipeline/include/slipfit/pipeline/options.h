@@ -1,0 +1,143 @@
+#pragma once
+/// \file Declared options: each stage declares each option once (name, bound field, default,
+/// unit, range, help); parsing, validation, `slipfit describe` and the docs all read that one
+/// declaration (the PDAL addArgs model).
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace YAML {
+class Node;
+}
+
+namespace slipfit::pipeline {
+
+class Option {
+ public:
+  using Parser = std::function<void(const YAML::Node&, const Option&)>;
+
+  Option(std::string name, std::string type, std::string default_text, std::string help,
+         Parser parser)
+      : name_(std::move(name)),
+        type_(std::move(type)),
+        default_(std::move(default_text)),
+        help_(std::move(help)),
+        parser_(std::move(parser)) {}
+
+  /// Unit of the value (e.g. "m", "neighbors", "deg"); shown by describe.
+  Option& unit(std::string unit) {
+    unit_ = std::move(unit);
+    return *this;
+  }
+  /// Inclusive numeric range.
+  Option& range(double lo, double hi) {
+    lo_ = lo;
+    hi_ = hi;
+    return *this;
+  }
+  /// Exclusive lower bound (value > lo).
+  Option& above(double lo) {
+    lo_ = lo;
+    lo_open_ = true;
+    return *this;
+  }
+  /// Inclusive lower bound.
+  Option& atLeast(double lo) {
+    lo_ = lo;
+    return *this;
+  }
+  /// The option must be given.
+  Option& required() {
+    required_ = true;
+    return *this;
+  }
+  Option& choices(std::vector<std::string> names) {
+    choices_ = std::move(names);
+    return *this;
+  }
+
+  const std::string& name() const { return name_; }
+  const std::string& type() const { return type_; }
+  const std::string& defaultText() const { return default_; }
+  const std::string& unit() const { return unit_; }
+  const std::string& help() const { return help_; }
+  const std::vector<std::string>& choices() const { return choices_; }
+  bool isRequired() const { return required_; }
+  /// "[3, 10000]", "(0, inf)", "one of knn, radius" or "" when unconstrained.
+  std::string rangeText() const;
+
+  /// Converts \a node into the bound field; throws OptionValueError with what is wrong.
+  void parse(const YAML::Node& node) const { parser_(node, *this); }
+  /// Throws OptionValueError when \a value is outside the declared range (or not finite).
+  void checkRange(double value) const;
+
+ private:
+  std::string name_, type_, default_, help_, unit_;
+  std::optional<double> lo_, hi_;
+  bool lo_open_ = false;
+  bool required_ = false;
+  std::vector<std::string> choices_;
+  Parser parser_;
+};
+
+/// The options of one stage (or of the input/output sections), in declaration order.
+class OptionSet {
+ public:
+  Option& add(std::string name, int& field, std::string help);
+  Option& add(std::string name, double& field, std::string help);
+  Option& add(std::string name, bool& field, std::string help);
+  Option& add(std::string name, std::string& field, std::string help);
+  Option& add(std::string name, std::uint64_t& field, std::string help);
+  Option& add(std::string name, std::optional<int>& field, std::string help);
+  Option& add(std::string name, std::optional<double>& field, std::string help);
+  Option& add(std::string name, Eigen::Vector3f& field, std::string help);
+  Option& add(std::string name, std::optional<Eigen::Vector3f>& field, std::string help);
+
+  /// An enumeration bound through its one name table.
+  template <typename E, std::size_t N>
+  Option& add(std::string name, E& field,
+              const std::array<std::pair<E, std::string_view>, N>& names, std::string help) {
+    std::vector<std::string> choices;
+    std::string default_text;
+    for (const auto& [value, text] : names) {
+      choices.emplace_back(text);
+      if (value == field) default_text = std::string(text);
+    }
+    auto parser = [&field, names](const YAML::Node& node, const Option& option) {
+      const std::string text = scalarText(node, option);
+      for (const auto& [value, t] : names)
+        if (t == text) {
+          field = value;
+          return;
+        }
+      throwNotAChoice(text, option);
+    };
+    return push(std::move(name), "enum", std::move(default_text), std::move(help), parser)
+        .choices(std::move(choices));
+  }
+
+  const Option* find(std::string_view name) const;
+  const std::vector<std::unique_ptr<Option>>& all() const { return options_; }
+  /// "a, b, c": the names, for error messages.
+  std::string namesText() const;
+
+  /// Helpers shared by the parsers.
+  static std::string scalarText(const YAML::Node& node, const Option& option);
+  [[noreturn]] static void throwNotAChoice(const std::string& text, const Option& option);
+
+ private:
+  Option& push(std::string name, std::string type, std::string default_text, std::string help,
+               Option::Parser parser);
+  std::vector<std::unique_ptr<Option>> options_;
+};
+
+}  // namespace slipfit::pipeline

@@ -1,0 +1,30 @@
+#pragma once
+/// \file All-or-nothing outputs: every file is written under a temporary name in the output
+/// directory and renamed into place only when the whole run has succeeded.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace slipfit::pipeline {
+
+class OutputFiles {
+ public:
+  explicit OutputFiles(std::string dir) : dir_(std::move(dir)) {}
+  OutputFiles(const OutputFiles&) = delete;
+  OutputFiles& operator=(const OutputFiles&) = delete;
+  /// Removes the temporary files of an uncommitted run.
+  ~OutputFiles();
+
+  /// Creates the directory if needed and calls \a write with a temporary path next to \a name.
+  /// Throws RunError when the directory cannot be created or \a write fails.
+  void add(const std::string& name, const std::function<void(const std::string& path)>& write);
+  /// Renames every temporary file to its final name; returns the final paths.
+  std::vector<std::string> commit();
+
+ private:
+  std::string dir_;
+  std::vector<std::pair<std::string, std::string>> pending_;  // temporary, final
+};
+
+}  // namespace slipfit::pipeline

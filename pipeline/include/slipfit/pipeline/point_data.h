@@ -1,0 +1,61 @@
+#pragma once
+/// \file What flows between pipeline stages: a PCL cloud plus the per-point fields and shared
+/// structures that stages add.
+
+#include "slipfit/neighborhoods.h"
+
+#include <pcl/PCLPointCloud2.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace slipfit::pipeline {
+
+/// One named per-point value written to the output PLY as a scalar property.
+struct PointField {
+  std::string name;
+  std::variant<std::vector<std::int32_t>, std::vector<float>> values;
+};
+
+/// Data capabilities a stage may require or produce (bit flags).
+enum DataBits : unsigned {
+  kPoints = 1u << 0,
+  kNormals = 1u << 1,
+  kNeighborhoods = 1u << 2,
+};
+
+/// The pipeline's state. Every per-point array is aligned with `cloud`.
+struct PointData {
+  /// Coordinates, and normals + curvature when has_normals (else NaN).
+  pcl::PointCloud<pcl::PointNormal>::Ptr cloud{new pcl::PointCloud<pcl::PointNormal>};
+  bool has_normals = false;
+  /// curvature holds a meaningful value (set by normal estimation).
+  bool has_curvature = false;
+  /// The input's other fields (colour, intensity, ...), carried through unchanged.
+  pcl::PCLPointCloud2 extra;
+  /// Fields added by stages, written after the extra fields.
+  std::vector<PointField> fields;
+  /// Neighborhoods of every point, shared by later stages (kNeighborhoods).
+  std::shared_ptr<const Neighborhoods> neighborhoods;
+
+  std::size_t size() const { return cloud->size(); }
+  unsigned available() const {
+    return kPoints | (has_normals ? kNormals : 0u) | (neighborhoods ? kNeighborhoods : 0u);
+  }
+  /// Adds a field, replacing one of the same name.
+  void setField(PointField field);
+  const PointField* field(const std::string& name) const;
+  /// Keeps the points with keep[i] != 0, in order, in every per-point array; neighbor lists lose
+  /// the removed points and are renumbered.
+  void keepOnly(const std::vector<char>& keep);
+};
+
+/// "points", "normals, neighborhoods" ...
+std::string dataBitsText(unsigned bits);
+
+}  // namespace slipfit::pipeline

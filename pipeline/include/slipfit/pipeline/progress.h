@@ -1,0 +1,28 @@
+#pragma once
+/// \file Progress on a terminal, silence when piped or with --quiet.
+
+#include <chrono>
+#include <cstddef>
+#include <string>
+
+namespace slipfit::pipeline {
+
+class Progress {
+ public:
+  /// Enabled only when \a enabled and standard error is a terminal.
+  explicit Progress(bool enabled);
+  bool enabled() const { return enabled_; }
+  /// Starts step \a index of \a count.
+  void begin(std::size_t index, std::size_t count, const std::string& label);
+  /// Ends the current step.
+  void end();
+  /// Seconds since begin().
+  double elapsed() const;
+
+ private:
+  bool enabled_ = false;
+  std::string label_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace slipfit::pipeline

@@ -1,0 +1,52 @@
+#pragma once
+/// \file The pipeline's view of a stage: declared options, a data-flow contract, and one run().
+
+#include "slipfit/pipeline/options.h"
+#include "slipfit/pipeline/point_data.h"
+
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <string_view>
+
+namespace slipfit::pipeline {
+
+class Progress;
+
+/// What a configured stage consumes and produces (DataBits).
+struct DataFlow {
+  unsigned consumes = kPoints;
+  unsigned produces = 0;
+};
+
+/// Shared settings of one run.
+struct RunContext {
+  Progress& progress;
+  std::ostream& report;   ///< one-line summaries (silent with --quiet)
+  int threads = 0;        ///< 0: all cores
+  std::uint64_t seed = 0;
+};
+
+/// A pipeline stage adapts one algorithm of slipfit::stages to PointData.
+class Stage {
+ public:
+  virtual ~Stage() = default;
+  /// Binds every option to a member; called once, on a fresh object, before parsing.
+  virtual void declare(OptionSet& options) = 0;
+  /// Cross-option checks after parsing (throws OptionValueError or InvalidParameterError).
+  virtual void prepare() {}
+  /// Valid after prepare().
+  virtual DataFlow flow() const = 0;
+  /// Runs on \a data; throws on failure (the pipeline reports it and writes nothing).
+  virtual void run(PointData& data, RunContext& context) = 0;
+};
+
+/// A registry entry.
+struct StageInfo {
+  std::string_view name;
+  std::string_view summary;
+  std::unique_ptr<Stage> (*make)();
+};
+
+}  // namespace slipfit::pipeline

@@ -1,0 +1,11 @@
+#pragma once
+/// \file Registry entries of the pipeline stages (one adapter file per stage).
+
+#include "slipfit/pipeline/stage.h"
+
+namespace slipfit::pipeline::adapters {
+
+StageInfo neighborhoodSelectionInfo();
+StageInfo normalEstimationInfo();
+
+}  // namespace slipfit::pipeline::adapters

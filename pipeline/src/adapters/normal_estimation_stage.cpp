@@ -1,0 +1,119 @@
+#include "adapters.h"
+
+#include "slipfit/normal_estimation.h"
+#include "slipfit/pipeline/errors.h"
+
+#include <ostream>
+
+namespace slipfit::pipeline::adapters {
+
+namespace {
+
+enum class FailedNormals { drop, error };
+constexpr std::array<std::pair<FailedNormals, std::string_view>, 2> kFailedNormalsNames{{
+    {FailedNormals::drop, "drop"},
+    {FailedNormals::error, "error"},
+}};
+
+class NormalEstimationStage : public Stage {
+ public:
+  void declare(OptionSet& o) override {
+    o.add("k", p_.k,
+          "Neighbors per point when no earlier neighborhood_selection stage shared its "
+          "neighborhoods (or use_shared is false).")
+        .unit("points")
+        .range(3, 10000);
+    o.add("radius", p_.radius, "Search radius instead of k, under the same condition.")
+        .unit("cloud units")
+        .above(0);
+    o.add("use_shared", use_shared_,
+          "Use the neighborhoods of an earlier neighborhood_selection stage when there is one "
+          "(no second search).");
+    o.add("orientation", p_.orientation, kNormalOrientationNames,
+          "viewpoint: normals face the viewpoint; reference: keep the sign of the input's own "
+          "normals; consistent: minimum-spanning-tree propagation (Hoppe et al. 1992), outward on "
+          "closed surfaces.");
+    o.add("viewpoint", p_.viewpoint,
+          "Viewpoint for 'viewpoint' (unset: the origin) and, when set, the seed direction for "
+          "'consistent' (unset: outward from the centroid).")
+        .unit("cloud units");
+    o.add("keep_input", keep_input_,
+          "When the input has normals, keep them as they are and estimate nothing.");
+    o.add("failed", failed_, kFailedNormalsNames,
+          "Points whose normal cannot be estimated (fewer than 3 neighbors): drop them, or stop "
+          "with an error.");
+  }
+
+  void prepare() override { p_.validate(); }
+
+  DataFlow flow() const override {
+    // Reference orientation reads the input's normals; keep_input may use them if present.
+    return {p_.orientation == NormalOrientation::reference ? (kPoints | kNormals) : kPoints, kNormals};
+  }
+
+  void run(PointData& data, RunContext& context) override {
+    if (keep_input_ && data.has_normals) {
+      context.report << "normals: kept the input's " << data.size() << " normals\n";
+      return;
+    }
+    NormalParameters p = p_;
+    p.threads = context.threads;
+    NormalEstimation<pcl::PointNormal, pcl::Normal> estimation;
+    estimation.setParameters(p);
+    estimation.setInputCloud(data.cloud);
+    const bool shared = use_shared_ && data.neighborhoods;
+    if (shared) estimation.setNeighborhoods(data.neighborhoods);
+    if (p.orientation == NormalOrientation::reference) {
+      auto reference = std::make_shared<Eigen::Matrix3Xf>(normals(std::as_const(*data.cloud)));
+      estimation.setReferenceNormals(std::move(reference));
+    }
+    pcl::PointCloud<pcl::Normal> out;
+    estimation.compute(out);
+    const auto& st = estimation.statistics();
+    if (st.failed > 0 && failed_ == FailedNormals::error)
+      throw RunError(std::to_string(st.failed) +
+                     " points have no normal (fewer than 3 neighbors or non-finite)");
+
+    auto& cloud = *data.cloud;
+    std::vector<char> keep(cloud.size(), 1);
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      cloud[i].getNormalVector3fMap() = out[i].getNormalVector3fMap();
+      cloud[i].curvature = out[i].curvature;
+      keep[i] = out[i].getNormalVector3fMap().allFinite() ? 1 : 0;
+    }
+    data.has_normals = true;
+    data.has_curvature = true;
+    if (st.failed > 0) data.keepOnly(keep);
+    if (data.size() == 0) throw RunError("no point has a normal");
+
+    context.report << "normals: " << st.estimated << " estimated from "
+                   << (shared ? "the shared neighborhoods"
+                              : p.radius ? "a radius search" : "a kNN search")
+                   << ", " << st.failed << " failed" << (st.failed ? " (dropped)" : "")
+                   << ", orientation " << orientationName() << " (" << st.flipped << " flipped";
+    if (p.orientation == NormalOrientation::consistent) context.report << ", " << st.components << " components";
+    context.report << ")\n";
+  }
+
+ private:
+  std::string_view orientationName() const {
+    for (const auto& [value, name] : kNormalOrientationNames)
+      if (value == p_.orientation) return name;
+    return "?";
+  }
+
+  NormalParameters p_;
+  bool use_shared_ = true;
+  bool keep_input_ = false;
+  FailedNormals failed_ = FailedNormals::drop;
+};
+
+}  // namespace
+
+StageInfo normalEstimationInfo() {
+  return {"normal_estimation",
+          "oriented normals by PCL NormalEstimationOMP on shared or own neighborhoods",
+          [] { return std::unique_ptr<Stage>(new NormalEstimationStage); }};
+}
+
+}  // namespace slipfit::pipeline::adapters

@@ -1,0 +1,298 @@
+#include "slipfit/pipeline/cloud_io.h"
+
+#include "slipfit/pipeline/errors.h"
+
+#include <pcl/PCLPointField.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+
+namespace slipfit::pipeline {
+
+namespace fs = std::filesystem;
+using Field = pcl::PCLPointField;
+
+namespace {
+
+std::size_t typeSize(std::uint8_t datatype) {
+  switch (datatype) {
+    case Field::INT8:
+    case Field::UINT8:
+      return 1;
+    case Field::INT16:
+    case Field::UINT16:
+      return 2;
+    case Field::INT32:
+    case Field::UINT32:
+    case Field::FLOAT32:
+      return 4;
+    case Field::FLOAT64:
+      return 8;
+    default:
+      return 0;
+  }
+}
+
+template <typename T>
+double load(const std::uint8_t* p) {
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  return static_cast<double>(v);
+}
+
+double valueAt(const std::uint8_t* p, std::uint8_t datatype) {
+  switch (datatype) {
+    case Field::INT8: return load<std::int8_t>(p);
+    case Field::UINT8: return load<std::uint8_t>(p);
+    case Field::INT16: return load<std::int16_t>(p);
+    case Field::UINT16: return load<std::uint16_t>(p);
+    case Field::INT32: return load<std::int32_t>(p);
+    case Field::UINT32: return load<std::uint32_t>(p);
+    case Field::FLOAT32: return load<float>(p);
+    case Field::FLOAT64: return load<double>(p);
+    default: return std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+const Field* findField(const pcl::PCLPointCloud2& blob, const char* name) {
+  for (const auto& f : blob.fields)
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
+bool isGeometryField(const std::string& name) {
+  static const char* const kNames[] = {"x", "y", "z", "normal_x", "normal_y", "normal_z",
+                                       "nx", "ny", "nz", "curvature"};
+  return std::any_of(std::begin(kNames), std::end(kNames), [&](const char* n) { return name == n; });
+}
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+void appendField(pcl::PCLPointCloud2& blob, const std::string& name, std::uint8_t datatype) {
+  Field f;
+  f.name = name;
+  f.offset = blob.point_step;
+  f.datatype = datatype;
+  f.count = 1;
+  blob.fields.push_back(f);
+  blob.point_step += static_cast<std::uint32_t>(typeSize(datatype));
+}
+
+}  // namespace
+
+PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report) {
+  const std::string where = "input '" + path + "': ";
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status)) throw RunError(where + "no such file");
+  if (fs::is_directory(status)) throw RunError(where + "is a directory, not a point cloud file");
+  const std::string ext = lowerExtension(path);
+  if (ext != ".ply" && ext != ".pcd")
+    throw RunError(where + "unsupported file type '" + ext + "' (expected .ply or .pcd)");
+  if (fs::file_size(path, ec) == 0) throw RunError(where + "the file is empty");
+
+  pcl::PCLPointCloud2 blob;
+  Eigen::Vector4f origin;
+  Eigen::Quaternionf orientation;
+  int version = 0;
+  int rc = -1;
+  try {
+    if (ext == ".ply") {
+      pcl::PLYReader reader;
+      rc = reader.read(path, blob, origin, orientation, version, 0);
+    } else {
+      pcl::PCDReader reader;
+      rc = reader.read(path, blob, origin, orientation, version, 0);
+    }
+  } catch (const std::exception& e) {
+    throw RunError(where + "cannot be read: " + e.what());
+  }
+  const char* kind = ext == ".ply" ? "PLY" : "PCD";
+  if (rc < 0) throw RunError(where + "not a readable " + kind + " file (malformed or truncated)");
+  const std::size_t n = static_cast<std::size_t>(blob.width) * blob.height;
+  if (blob.data.size() != n * blob.point_step)
+    throw RunError(where + "truncated: the header announces " + std::to_string(n) +
+                   " points but the data holds " +
+                   std::to_string(blob.point_step ? blob.data.size() / blob.point_step : 0));
+  if (n == 0) throw RunError(where + "the cloud is empty (0 points)");
+
+  const Field* fx = findField(blob, "x");
+  const Field* fy = findField(blob, "y");
+  const Field* fz = findField(blob, "z");
+  if (!fx || !fy || !fz) throw RunError(where + "no x, y, z fields");
+  const Field* fnx = findField(blob, "normal_x");
+  const Field* fny = findField(blob, "normal_y");
+  const Field* fnz = findField(blob, "normal_z");
+  if (!fnx) fnx = findField(blob, "nx");
+  if (!fny) fny = findField(blob, "ny");
+  if (!fnz) fnz = findField(blob, "nz");
+  bool has_normals = fnx && fny && fnz;
+  const Field* fcurv = findField(blob, "curvature");
+
+  auto value = [&](std::size_t row, const Field* f) {
+    return valueAt(blob.data.data() + row * blob.point_step + f->offset, f->datatype);
+  };
+  if (has_normals) {
+    // A file whose normals are all zero has placeholders, not normals.
+    bool any = false;
+    for (std::size_t i = 0; i < n && !any; ++i)
+      any = value(i, fnx) != 0.0 || value(i, fny) != 0.0 || value(i, fnz) != 0.0;
+    has_normals = any;
+  }
+
+  std::vector<std::size_t> keep;
+  keep.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = value(i, fx), y = value(i, fy), z = value(i, fz);
+    bool ok = std::isfinite(x) && std::isfinite(y) && std::isfinite(z) &&
+              std::abs(x) <= std::numeric_limits<float>::max() &&
+              std::abs(y) <= std::numeric_limits<float>::max() &&
+              std::abs(z) <= std::numeric_limits<float>::max();
+    const char* what = "a non-finite coordinate (NaN or inf)";
+    if (ok && has_normals) {
+      const double nx = value(i, fnx), ny = value(i, fny), nz = value(i, fnz);
+      ok = std::isfinite(nx) && std::isfinite(ny) && std::isfinite(nz) &&
+           nx * nx + ny * ny + nz * nz > 0.0;
+      what = "a zero or non-finite normal";
+    }
+    if (ok) {
+      keep.push_back(i);
+    } else if (nan_policy == NanPolicy::error) {
+      throw RunError(where + "point " + std::to_string(i) + " has " + what +
+                     "; set input.nan: skip to drop such points");
+    }
+  }
+  if (keep.empty())
+    throw RunError(where + "none of its " + std::to_string(n) + " points has finite values");
+
+  PointData data;
+  data.has_normals = has_normals;
+  data.has_curvature = has_normals && fcurv != nullptr;
+  auto& cloud = *data.cloud;
+  cloud.resize(keep.size());
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t j = 0; j < keep.size(); ++j) {
+    const std::size_t i = keep[j];
+    pcl::PointNormal& p = cloud[j];
+    p.x = static_cast<float>(value(i, fx));
+    p.y = static_cast<float>(value(i, fy));
+    p.z = static_cast<float>(value(i, fz));
+    if (has_normals) {
+      p.normal_x = static_cast<float>(value(i, fnx));
+      p.normal_y = static_cast<float>(value(i, fny));
+      p.normal_z = static_cast<float>(value(i, fnz));
+    } else {
+      p.normal_x = p.normal_y = p.normal_z = nan;
+    }
+    p.curvature = data.has_curvature ? static_cast<float>(value(i, fcurv)) : nan;
+  }
+  cloud.width = static_cast<std::uint32_t>(keep.size());
+  cloud.height = 1;
+  cloud.is_dense = true;
+
+  // Carry every other scalar field through with its own type.
+  std::vector<const Field*> extra;
+  for (const auto& f : blob.fields)
+    if (!isGeometryField(f.name) && f.name != "_" && f.count == 1 && typeSize(f.datatype) > 0)
+      extra.push_back(&f);
+  pcl::PCLPointCloud2& out = data.extra;
+  out.height = 1;
+  out.width = static_cast<std::uint32_t>(keep.size());
+  out.is_bigendian = false;
+  out.is_dense = true;
+  for (const Field* f : extra) appendField(out, f->name, f->datatype);
+  out.row_step = out.point_step * out.width;
+  out.data.resize(static_cast<std::size_t>(out.row_step));
+  for (std::size_t j = 0; j < keep.size(); ++j)
+    for (std::size_t e = 0; e < extra.size(); ++e)
+      std::memcpy(out.data.data() + j * out.point_step + out.fields[e].offset,
+                  blob.data.data() + keep[j] * blob.point_step + extra[e]->offset,
+                  typeSize(extra[e]->datatype));
+
+  if (report) {
+    report->points_read = n;
+    report->dropped = n - keep.size();
+    report->normals = has_normals;
+    report->extra_fields.clear();
+    for (const Field* f : extra) report->extra_fields += (report->extra_fields.empty() ? "" : ", ") + f->name;
+  }
+  return data;
+}
+
+pcl::PCLPointCloud2 toBlob(const PointData& data) {
+  const auto& cloud = *data.cloud;
+  const std::size_t n = cloud.size();
+  pcl::PCLPointCloud2 blob;
+  blob.height = 1;
+  blob.width = static_cast<std::uint32_t>(n);
+  blob.is_bigendian = false;
+  blob.is_dense = true;
+
+  // Column sources: a pointer to the first value and a stride in bytes.
+  struct Column {
+    const std::uint8_t* base;
+    std::size_t stride;
+    std::size_t size;
+  };
+  std::vector<Column> columns;
+  auto add = [&](const std::string& name, std::uint8_t type, const void* base, std::size_t stride) {
+    appendField(blob, name, type);
+    columns.push_back({static_cast<const std::uint8_t*>(base), stride, typeSize(type)});
+  };
+  const auto* first = reinterpret_cast<const std::uint8_t*>(cloud.data());
+  const std::size_t ps = sizeof(pcl::PointNormal);
+  add("x", Field::FLOAT32, first + offsetof(pcl::PointNormal, x), ps);
+  add("y", Field::FLOAT32, first + offsetof(pcl::PointNormal, y), ps);
+  add("z", Field::FLOAT32, first + offsetof(pcl::PointNormal, z), ps);
+  if (data.has_normals) {
+    add("normal_x", Field::FLOAT32, first + offsetof(pcl::PointNormal, normal_x), ps);
+    add("normal_y", Field::FLOAT32, first + offsetof(pcl::PointNormal, normal_y), ps);
+    add("normal_z", Field::FLOAT32, first + offsetof(pcl::PointNormal, normal_z), ps);
+  }
+  if (data.has_curvature)
+    add("curvature", Field::FLOAT32, first + offsetof(pcl::PointNormal, curvature), ps);
+  if (data.extra.width == n)
+    for (const auto& f : data.extra.fields)
+      add(f.name, f.datatype, data.extra.data.data() + f.offset, data.extra.point_step);
+  for (const auto& f : data.fields) {
+    const std::size_t count = std::visit([](const auto& v) { return v.size(); }, f.values);
+    if (count != n)
+      throw RunError("output: field '" + f.name + "' has " + std::to_string(count) +
+                     " values for " + std::to_string(n) + " points");
+    if (const auto* v = std::get_if<std::vector<std::int32_t>>(&f.values))
+      add(f.name, Field::INT32, v->data(), sizeof(std::int32_t));
+    else if (const auto* w = std::get_if<std::vector<float>>(&f.values))
+      add(f.name, Field::FLOAT32, w->data(), sizeof(float));
+  }
+  blob.row_step = blob.point_step * blob.width;
+  blob.data.resize(static_cast<std::size_t>(blob.row_step));
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint8_t* row = blob.data.data() + i * blob.point_step;
+    for (std::size_t c = 0; c < columns.size(); ++c)
+      std::memcpy(row + blob.fields[c].offset, columns[c].base + i * columns[c].stride,
+                  columns[c].size);
+  }
+  return blob;
+}
+
+void writeCloudPly(const PointData& data, const std::string& path, bool binary) {
+  if (data.size() == 0) throw RunError("output '" + path + "': no points to write");
+  const pcl::PCLPointCloud2 blob = toBlob(data);
+  pcl::PLYWriter writer;
+  const int rc = writer.write(path, blob, Eigen::Vector4f::Zero(), Eigen::Quaternionf::Identity(),
+                              binary, false);
+  if (rc < 0) throw RunError("output '" + path + "': cannot be written");
+}
+
+}  // namespace slipfit::pipeline

@@ -1,0 +1,245 @@
+#include "slipfit/pipeline/config.h"
+
+#include "slipfit/exceptions.h"
+#include "slipfit/pipeline/errors.h"
+#include "slipfit/pipeline/registry.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <map>
+#include <set>
+
+namespace slipfit::pipeline {
+
+void InputSection::declare(OptionSet& o) {
+  o.add("path", path, "Point cloud to read: .ply (ascii or binary) or .pcd.").required();
+  o.add("nan", nan, kNanPolicyNames,
+        "Points with a NaN/inf coordinate or normal: 'error' stops, 'skip' drops them and reports "
+        "how many (organized scans mark missing depth with NaN).");
+}
+
+void OutputSection::declare(OptionSet& o) {
+  o.add("dir", dir, "Directory for the outputs; created if missing.");
+  o.add("format", format, kPlyEncodingNames, "PLY encoding of the output cloud.");
+  o.add("cloud", cloud, "File name of the output cloud inside dir.");
+}
+
+void RunSettings::declare(OptionSet& o) {
+  o.add("threads", threads, "Worker threads for parallel stages; 0 uses every core.")
+      .range(0, 1024);
+  o.add("seed", seed, "Seed of every random choice, for reproducible runs.");
+}
+
+namespace {
+
+class Loader {
+ public:
+  Loader(std::string path, const std::vector<std::string>& overrides) : path_(std::move(path)) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path_, ec)) fail("config '" + path_ + "': no such file");
+    if (std::filesystem::is_directory(path_, ec))
+      fail("config '" + path_ + "': is a directory, not a YAML file");
+    try {
+      root_ = YAML::LoadFile(path_);
+    } catch (const YAML::ParserException& e) {
+      fail(at(e.mark) + "YAML syntax error: " + e.msg);
+    } catch (const YAML::Exception& e) {
+      fail("config '" + path_ + "': " + e.what());
+    }
+    if (!root_.IsMap()) fail(path_ + ": the config must be a YAML map with input, stages, output");
+    for (const auto& o : overrides) applyOverride(o);
+  }
+
+  PipelineConfig load() {
+    PipelineConfig config;
+    config.path = path_;
+    const YAML::Node& root = root_;
+    static const std::set<std::string> kTop = {"input", "output", "stages", "threads", "seed"};
+    for (const auto& kv : root) {
+      const std::string key = kv.first.Scalar();
+      if (!kTop.count(key))
+        fail(at(kv.first.Mark()) + "unknown top-level key '" + key +
+             "'; valid keys: input, stages, output, threads, seed");
+    }
+    {
+      OptionSet options;
+      config.settings.declare(options);
+      applyMap(root, options, "", "top level", /*skip=*/{"input", "output", "stages"});
+    }
+    if (!root["input"]) fail(path_ + ": missing 'input' section (input: {path: cloud.ply})");
+    parseSection(root["input"], "input", [&](OptionSet& o) { config.input.declare(o); });
+    if (root["output"])
+      parseSection(root["output"], "output", [&](OptionSet& o) { config.output.declare(o); });
+    const YAML::Node stages = root["stages"];
+    if (!stages) fail(path_ + ": missing 'stages' list");
+    if (!stages.IsSequence()) fail(at(stages.Mark()) + "'stages' must be a list of stages");
+
+    std::set<std::string> tags;
+    for (const auto& node : stages) {
+      ConfiguredStage s = parseStage(node);
+      if (!tags.insert(s.tag).second)
+        fail(s.where + "stage tag '" + s.tag + "' is used twice; give each stage its own tag");
+      config.stages.push_back(std::move(s));
+    }
+    const std::string flow = checkDataFlow(config, kPoints | kNormals);
+    if (!flow.empty()) fail(path_ + ": " + flow);
+    return config;
+  }
+
+ private:
+  [[noreturn]] static void fail(const std::string& message) { throw ConfigError(message); }
+
+  std::string at(const YAML::Mark& mark) const {
+    if (mark.is_null()) return path_ + ": ";
+    return path_ + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1) + ": ";
+  }
+
+  /// Location of a key: the --set that put it there, or its place in the file.
+  std::string keyPlace(const std::string& section, const std::string& key, const YAML::Mark& mark) const {
+    const auto it = overrides_.find(section + "." + key);
+    if (it != overrides_.end()) return "--set " + it->second + ": ";
+    return at(mark);
+  }
+
+  void applyOverride(const std::string& text) {
+    const auto eq = text.find('=');
+    if (eq == std::string::npos || eq == 0)
+      fail("--set " + text + ": expected KEY=VALUE, e.g. --set normals.k=30");
+    const std::string key = text.substr(0, eq);
+    YAML::Node value;
+    try {
+      value = YAML::Load(text.substr(eq + 1));
+    } catch (const YAML::Exception& e) {
+      fail("--set " + text + ": the value is not valid YAML (" + e.what() + ")");
+    }
+    const auto dot = key.find('.');
+    if (dot == std::string::npos) {
+      if (key != "threads" && key != "seed")
+        fail("--set " + text + ": expected SECTION.KEY (input.path, output.dir, TAG.OPTION) or "
+             "threads / seed");
+      root_[key] = value;
+      overrides_["." + key] = text;
+      return;
+    }
+    const std::string section = key.substr(0, dot), option = key.substr(dot + 1);
+    if (option.empty() || option.find('.') != std::string::npos)
+      fail("--set " + text + ": expected SECTION.KEY with one dot");
+    overrides_[section + "." + option] = text;
+    if (section == "input" || section == "output") {
+      if (!root_[section]) root_[section] = YAML::Node(YAML::NodeType::Map);
+      root_[section][option] = value;
+      return;
+    }
+    std::string tags;
+    for (auto node : root_["stages"]) {
+      const std::string tag = stageTag(node);
+      tags += (tags.empty() ? "" : ", ") + tag;
+      if (tag == section) {
+        node[option] = value;
+        return;
+      }
+    }
+    fail("--set " + text + ": no stage is tagged '" + section + "'; tags: " +
+         (tags.empty() ? "none" : tags) + " (and the sections input, output)");
+  }
+
+  static std::string stageTag(const YAML::Node& node) {
+    if (!node.IsMap()) return "";
+    const YAML::Node& c = node;
+    if (c["tag"] && c["tag"].IsScalar()) return c["tag"].Scalar();
+    if (c["type"] && c["type"].IsScalar()) return c["type"].Scalar();
+    return "";
+  }
+
+  template <typename Declare>
+  void parseSection(const YAML::Node& node, const std::string& name, Declare declare) {
+    if (!node.IsMap()) fail(at(node.Mark()) + "'" + name + "' must be a map of options");
+    OptionSet options;
+    declare(options);
+    applyMap(node, options, name, "section '" + name + "'", {});
+  }
+
+  /// Parses every key of \a node into \a options; \a section names the override prefix.
+  void applyMap(const YAML::Node& node, const OptionSet& options, const std::string& section,
+                const std::string& who, const std::set<std::string>& skip) {
+    std::set<std::string> seen;
+    for (const auto& kv : node) {
+      const std::string key = kv.first.Scalar();
+      if (skip.count(key)) continue;
+      const Option* option = options.find(key);
+      const std::string place = keyPlace(section, key, kv.first.Mark());
+      if (!option)
+        fail(place + who + ": unknown key '" + key + "'; valid keys: " + options.namesText());
+      try {
+        option->parse(kv.second);
+      } catch (const OptionValueError& e) {
+        fail(keyPlace(section, key, kv.second.Mark()) + who + ": key '" + key + "': " + e.what());
+      }
+      seen.insert(key);
+    }
+    for (const auto& o : options.all())
+      if (o->isRequired() && !seen.count(o->name()))
+        fail(at(node.Mark()) + who + ": missing required key '" + o->name() + "'");
+  }
+
+  ConfiguredStage parseStage(const YAML::Node& node) {
+    ConfiguredStage s;
+    s.where = at(node.Mark());
+    if (!node.IsMap()) fail(s.where + "each stage must be a map with at least 'type'");
+    const YAML::Node type = node["type"];
+    if (!type || !type.IsScalar()) fail(s.where + "stage without 'type'; known stages: " + knownStagesText());
+    s.type = type.Scalar();
+    const StageInfo* info = findStage(s.type);
+    if (!info)
+      fail(at(type.Mark()) + "unknown stage type '" + s.type + "'; known stages: " + knownStagesText());
+    s.tag = node["tag"] ? node["tag"].Scalar() : s.type;
+    if (s.tag.empty() || s.tag.find('.') != std::string::npos)
+      fail(at(node["tag"].Mark()) + "stage tag '" + s.tag + "' must be non-empty and without dots");
+    s.stage = info->make();
+    OptionSet options;
+    s.stage->declare(options);
+    const std::string who = "stage '" + s.tag + "' (" + s.type + ")";
+    applyMap(node, options, s.tag, who, {"type", "tag"});
+    try {
+      s.stage->prepare();
+    } catch (const OptionValueError& e) {
+      fail(s.where + who + ": " + e.what());
+    } catch (const pcl::PCLException& e) {
+      fail(s.where + who + ": " + e.what());
+    }
+    return s;
+  }
+
+  std::string path_;
+  YAML::Node root_;
+  std::map<std::string, std::string> overrides_;  // "section.key" -> the --set text
+};
+
+}  // namespace
+
+PipelineConfig loadConfig(const std::string& path, const std::vector<std::string>& overrides) {
+  try {
+    Loader loader(path, overrides);
+    return loader.load();
+  } catch (const YAML::Exception& e) {
+    // Anything yaml-cpp throws past the checks above is still a config problem.
+    throw ConfigError(path + ": " + e.what());
+  }
+}
+
+std::string checkDataFlow(const PipelineConfig& config, unsigned input_bits) {
+  unsigned available = input_bits;
+  for (const auto& s : config.stages) {
+    const DataFlow flow = s.stage->flow();
+    const unsigned missing = flow.consumes & ~available;
+    if (missing) {
+      return "stage '" + s.tag + "' (" + s.type + ") needs " + dataBitsText(missing) +
+             ": the input has none and no earlier stage produces them";
+    }
+    available |= flow.produces;
+  }
+  return "";
+}
+
+}  // namespace slipfit::pipeline

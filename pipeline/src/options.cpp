@@ -1,0 +1,185 @@
+#include "slipfit/pipeline/options.h"
+
+#include "slipfit/pipeline/errors.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace slipfit::pipeline {
+
+namespace {
+
+std::string number(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  std::ostringstream os;
+  os.precision(9);
+  os << v;
+  return os.str();
+}
+
+std::string vec3Text(const Eigen::Vector3f& v) {
+  return "[" + number(v.x()) + ", " + number(v.y()) + ", " + number(v.z()) + "]";
+}
+
+double parseNumber(const YAML::Node& node, const Option& option, bool integer) {
+  const std::string text = OptionSet::scalarText(node, option);
+  std::istringstream is(text);
+  is.imbue(std::locale::classic());
+  double value = 0.0;
+  if (integer) {
+    long long i = 0;
+    if (!(is >> i) || is.peek() != std::char_traits<char>::eof())
+      throw OptionValueError("expected an integer, got '" + text + "'");
+    value = static_cast<double>(i);
+  } else {
+    is >> value;
+    if (is.fail() || is.peek() != std::char_traits<char>::eof())
+      throw OptionValueError("expected a number, got '" + text + "'");
+  }
+  if (!std::isfinite(value)) throw OptionValueError("expected a finite number, got '" + text + "'");
+  option.checkRange(value);
+  return value;
+}
+
+Eigen::Vector3f parseVec3(const YAML::Node& node, const Option& option) {
+  if (!node.IsSequence() || node.size() != 3)
+    throw OptionValueError("expected a list of three numbers like [0, 0, 1]");
+  Eigen::Vector3f v;
+  for (int i = 0; i < 3; ++i) v[i] = static_cast<float>(parseNumber(node[i], option, false));
+  return v;
+}
+
+}  // namespace
+
+std::string Option::rangeText() const {
+  if (!choices_.empty()) {
+    std::string s = "one of ";
+    for (std::size_t i = 0; i < choices_.size(); ++i) s += (i ? ", " : "") + choices_[i];
+    return s;
+  }
+  if (!lo_ && !hi_) return "";
+  return std::string(lo_open_ ? "(" : "[") + (lo_ ? number(*lo_) : "-inf") + ", " +
+         (hi_ ? number(*hi_) + "]" : "inf)");
+}
+
+void Option::checkRange(double value) const {
+  const bool low = lo_ && (lo_open_ ? !(value > *lo_) : !(value >= *lo_));
+  const bool high = hi_ && !(value <= *hi_);
+  if (low || high)
+    throw OptionValueError("must be in " + rangeText() + ", got " + number(value));
+}
+
+std::string OptionSet::scalarText(const YAML::Node& node, const Option& option) {
+  if (!node.IsScalar())
+    throw OptionValueError("expected a single " + option.type() + " value, got a " +
+                           (node.IsSequence() ? "list" : node.IsMap() ? "map" : "null"));
+  return node.Scalar();
+}
+
+void OptionSet::throwNotAChoice(const std::string& text, const Option& option) {
+  throw OptionValueError("'" + text + "' is not " + option.rangeText());
+}
+
+Option& OptionSet::push(std::string name, std::string type, std::string default_text,
+                        std::string help, Option::Parser parser) {
+  options_.push_back(std::make_unique<Option>(std::move(name), std::move(type),
+                                              std::move(default_text), std::move(help),
+                                              std::move(parser)));
+  return *options_.back();
+}
+
+Option& OptionSet::add(std::string name, int& field, std::string help) {
+  return push(std::move(name), "int", std::to_string(field), std::move(help),
+              [&field](const YAML::Node& node, const Option& option) {
+                const double v = parseNumber(node, option, true);
+                if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+                  throw OptionValueError("integer out of range");
+                field = static_cast<int>(v);
+              });
+}
+
+Option& OptionSet::add(std::string name, double& field, std::string help) {
+  return push(std::move(name), "float", number(field), std::move(help),
+              [&field](const YAML::Node& node, const Option& option) {
+                field = parseNumber(node, option, false);
+              });
+}
+
+Option& OptionSet::add(std::string name, std::uint64_t& field, std::string help) {
+  return push(std::move(name), "uint", std::to_string(field), std::move(help),
+              [&field](const YAML::Node& node, const Option& option) {
+                const std::string text = scalarText(node, option);
+                std::istringstream is(text);
+                unsigned long long v = 0;
+                if (text.empty() || text[0] == '-' || !(is >> v) ||
+                    is.peek() != std::char_traits<char>::eof())
+                  throw OptionValueError("expected a non-negative integer, got '" + text + "'");
+                field = v;
+              });
+}
+
+Option& OptionSet::add(std::string name, bool& field, std::string help) {
+  return push(std::move(name), "bool", field ? "true" : "false", std::move(help),
+              [&field](const YAML::Node& node, const Option& option) {
+                const std::string text = scalarText(node, option);
+                if (text == "true" || text == "yes" || text == "on")
+                  field = true;
+                else if (text == "false" || text == "no" || text == "off")
+                  field = false;
+                else
+                  throw OptionValueError("expected true or false, got '" + text + "'");
+              });
+}
+
+Option& OptionSet::add(std::string name, std::string& field, std::string help) {
+  return push(std::move(name), "string", field.empty() ? "\"\"" : field, std::move(help),
+              [&field](const YAML::Node& node, const Option& option) {
+                field = scalarText(node, option);
+                if (field.empty()) throw OptionValueError("must not be empty");
+              });
+}
+
+Option& OptionSet::add(std::string name, std::optional<int>& field, std::string help) {
+  return push(std::move(name), "int", field ? std::to_string(*field) : "unset", std::move(help),
+              [&field](const YAML::Node& node, const Option& option) {
+                field = static_cast<int>(parseNumber(node, option, true));
+              });
+}
+
+Option& OptionSet::add(std::string name, std::optional<double>& field, std::string help) {
+  return push(std::move(name), "float", field ? number(*field) : "unset", std::move(help),
+              [&field](const YAML::Node& node, const Option& option) {
+                field = parseNumber(node, option, false);
+              });
+}
+
+Option& OptionSet::add(std::string name, Eigen::Vector3f& field, std::string help) {
+  return push(std::move(name), "vec3", vec3Text(field), std::move(help),
+              [&field](const YAML::Node& node, const Option& option) {
+                field = parseVec3(node, option);
+              });
+}
+
+Option& OptionSet::add(std::string name, std::optional<Eigen::Vector3f>& field, std::string help) {
+  return push(std::move(name), "vec3", field ? vec3Text(*field) : "unset", std::move(help),
+              [&field](const YAML::Node& node, const Option& option) {
+                field = parseVec3(node, option);
+              });
+}
+
+const Option* OptionSet::find(std::string_view name) const {
+  for (const auto& o : options_)
+    if (o->name() == name) return o.get();
+  return nullptr;
+}
+
+std::string OptionSet::namesText() const {
+  std::string s;
+  for (const auto& o : options_) s += (s.empty() ? "" : ", ") + o->name();
+  return s;
+}
+
+}  // namespace slipfit::pipeline

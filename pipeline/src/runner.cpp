@@ -1,0 +1,70 @@
+#include "slipfit/pipeline/runner.h"
+
+#include "slipfit/pipeline/errors.h"
+#include "slipfit/pipeline/output_files.h"
+#include "slipfit/pipeline/progress.h"
+
+#include <pcl/exceptions.h>
+
+#include <ostream>
+#include <sstream>
+
+namespace slipfit::pipeline {
+
+namespace {
+/// Swallows everything (for --quiet).
+class NullBuffer : public std::streambuf {
+ protected:
+  int overflow(int c) override { return c; }
+};
+}  // namespace
+
+std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& options,
+                                     std::ostream& report_stream) {
+  NullBuffer null_buffer;
+  std::ostream null_stream(&null_buffer);
+  std::ostream& report = options.quiet ? null_stream : report_stream;
+  Progress progress(!options.quiet);
+  const std::size_t steps = config.stages.size() + 2;
+
+  progress.begin(1, steps, "read " + config.input.path);
+  ReadReport read;
+  PointData data = readCloud(config.input.path, config.input.nan, &read);
+  progress.end();
+  report << "input: " << config.input.path << ": " << data.size() << " points";
+  if (read.dropped) report << " (" << read.dropped << " non-finite dropped)";
+  report << ", normals: " << (read.normals ? "yes" : "no");
+  if (!read.extra_fields.empty()) report << ", fields: " << read.extra_fields;
+  report << "\n";
+
+  const std::string flow = checkDataFlow(config, data.available());
+  if (!flow.empty()) throw RunError(config.input.path + ": " + flow);
+
+  RunContext context{progress, report, config.settings.threads, config.settings.seed};
+  for (std::size_t i = 0; i < config.stages.size(); ++i) {
+    auto& s = config.stages[i];
+    progress.begin(i + 2, steps, s.tag + " (" + s.type + ")");
+    try {
+      s.stage->run(data, context);
+    } catch (const RunError& e) {
+      throw RunError("stage '" + s.tag + "' (" + s.type + "): " + e.what());
+    } catch (const pcl::PCLException& e) {
+      throw RunError("stage '" + s.tag + "' (" + s.type + "): " + e.what());
+    } catch (const std::bad_alloc&) {
+      throw RunError("stage '" + s.tag + "' (" + s.type + "): out of memory");
+    }
+    progress.end();
+  }
+
+  progress.begin(steps, steps, "write " + config.output.dir);
+  OutputFiles outputs(config.output.dir);
+  outputs.add(config.output.cloud, [&](const std::string& path) {
+    writeCloudPly(data, path, config.output.format == PlyEncoding::binary);
+  });
+  const auto written = outputs.commit();
+  progress.end();
+  for (const auto& path : written) report << "wrote " << path << "\n";
+  return written;
+}
+
+}  // namespace slipfit::pipeline

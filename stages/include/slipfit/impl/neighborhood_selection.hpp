@@ -1,0 +1,131 @@
+#pragma once
+
+#include "slipfit/eigen_entropy.h"
+#include "slipfit/exceptions.h"
+#include "slipfit/neighborhood_selection.h"
+
+#include <pcl/common/point_tests.h>
+#include <pcl/search/kdtree.h>
+
+#include <Eigen/Core>
+#include <omp.h>
+
+#include <algorithm>
+#include <limits>
+#include <vector>
+
+namespace slipfit {
+
+template <typename PointT>
+void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
+  parameters_.validate();
+  if (!input_ || input_->empty())
+    throw DegenerateInputError("neighborhood selection: the input cloud is empty");
+  if (!this->initCompute())
+    throw DegenerateInputError("neighborhood selection: the indices do not fit the input cloud");
+
+  const auto& cloud = *input_;
+  const std::size_t n = cloud.size();
+  std::vector<char> queried(n, 0);
+  for (const auto i : *indices_) queried[static_cast<std::size_t>(i)] = 1;
+
+  std::size_t finite = 0;
+  for (const auto& p : cloud.points) finite += pcl::isFinite(p) ? 1 : 0;
+  if (finite < 2) {
+    this->deinitCompute();
+    throw DegenerateInputError("neighborhood selection: fewer than two finite points in the cloud");
+  }
+
+  statistics_ = NeighborhoodStatistics{};
+  if (!search_) search_.reset(new pcl::search::KdTree<PointT>(true));
+  search_->setSortedResults(true);
+  if (search_->getInputCloud() != input_) {
+    search_->setInputCloud(input_);
+    statistics_.tree_builds = 1;
+  }
+
+  const NeighborhoodParameters& par = parameters_;
+  const int k_query = par.mode == NeighborhoodMode::adaptive ? par.k_max : par.k;
+  const float r2 = par.radius ? static_cast<float>(*par.radius * *par.radius) : 0.0f;
+
+  output.clear();
+  output.reserve(n, par.mode == NeighborhoodMode::radius ? n * 16 : n * static_cast<std::size_t>(k_query));
+
+  // Points are searched in parallel a chunk at a time and appended in cloud order, which keeps the
+  // result independent of the thread count and the transient memory bounded.
+  constexpr std::size_t kChunk = 1 << 15;
+  std::vector<pcl::Indices> chunk_indices(std::min(kChunk, n));
+  std::vector<std::vector<float>> chunk_dists(std::min(kChunk, n));
+  std::size_t queries = 0, skipped = 0;
+  const int threads = par.threads;
+
+  for (std::size_t begin = 0; begin < n; begin += kChunk) {
+    const std::size_t end = std::min(n, begin + kChunk);
+#pragma omp parallel num_threads(threads > 0 ? threads : omp_get_num_procs()) \
+    reduction(+ : queries, skipped)
+    {
+      Eigen::Matrix3Xf local;
+#pragma omp for schedule(dynamic, 256)
+      for (std::ptrdiff_t ii = static_cast<std::ptrdiff_t>(begin); ii < static_cast<std::ptrdiff_t>(end);
+           ++ii) {
+        const auto i = static_cast<std::size_t>(ii);
+        pcl::Indices& ind = chunk_indices[i - begin];
+        std::vector<float>& d = chunk_dists[i - begin];
+        ind.clear();
+        d.clear();
+        if (!queried[i]) continue;
+        if (!pcl::isFinite(cloud[i])) {
+          ++skipped;
+          continue;
+        }
+        ++queries;
+        const auto index = static_cast<pcl::index_t>(i);
+        switch (par.mode) {
+          case NeighborhoodMode::knn:
+            search_->nearestKSearch(cloud, index, par.k, ind, d);
+            break;
+          case NeighborhoodMode::radius:
+            search_->radiusSearch(cloud, index, *par.radius, ind, d,
+                                  par.max_neighbors ? static_cast<unsigned>(*par.max_neighbors) : 0u);
+            break;
+          case NeighborhoodMode::hybrid: {
+            search_->nearestKSearch(cloud, index, par.k, ind, d);
+            const auto cut = std::upper_bound(d.begin(), d.end(), r2) - d.begin();
+            ind.resize(cut);
+            d.resize(cut);
+            break;
+          }
+          case NeighborhoodMode::adaptive: {
+            search_->nearestKSearch(cloud, index, par.k_max, ind, d);
+            local.resize(3, static_cast<Eigen::Index>(ind.size()));
+            for (std::size_t j = 0; j < ind.size(); ++j) local.col(j) = cloud[ind[j]].getVector3fMap();
+            const int k = optimalNeighborhoodSize(local, par.k_min, par.k_max, par.k_step);
+            ind.resize(k);
+            d.resize(k);
+            break;
+          }
+        }
+      }
+    }
+    for (std::size_t i = begin; i < end; ++i)
+      output.append(chunk_indices[i - begin].data(), chunk_dists[i - begin].data(),
+                    chunk_indices[i - begin].size());
+  }
+
+  statistics_.queries = queries;
+  statistics_.skipped_nonfinite = skipped;
+  std::size_t total = 0, lo = std::numeric_limits<std::size_t>::max(), hi = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t s = output[i].size();
+    if (s == 0) continue;
+    total += s;
+    lo = std::min(lo, s);
+    hi = std::max(hi, s);
+  }
+  statistics_.min_size = hi == 0 ? 0 : lo;
+  statistics_.max_size = hi;
+  statistics_.mean_size = queries ? static_cast<double>(total) / static_cast<double>(queries) : 0.0;
+  this->deinitCompute();
+}
+
+}  // namespace slipfit

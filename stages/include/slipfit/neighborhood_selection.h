@@ -1,0 +1,104 @@
+#pragma once
+/// \file Neighborhood selection: kNN, radius, hybrid and adaptive (eigen-entropy) neighborhoods of
+/// every point, through one kd-tree build and one neighbor search per point.
+
+#include "slipfit/neighborhoods.h"
+
+#include <pcl/pcl_base.h>
+#include <pcl/search/search.h>
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string_view>
+
+namespace slipfit {
+
+/// How a point's neighborhood is chosen.
+enum class NeighborhoodMode {
+  knn,      ///< the k nearest points
+  radius,   ///< all points within a radius (optionally at most max_neighbors of the nearest)
+  hybrid,   ///< the k nearest points, but none farther than the radius
+  adaptive  ///< per point, the k in [k_min, k_max] with least eigen-entropy (Weinmann et al. 2015)
+};
+
+/// The one name table of NeighborhoodMode (used by the pipeline, the docs and error messages).
+constexpr std::array<std::pair<NeighborhoodMode, std::string_view>, 4> kNeighborhoodModeNames{{
+    {NeighborhoodMode::knn, "knn"},
+    {NeighborhoodMode::radius, "radius"},
+    {NeighborhoodMode::hybrid, "hybrid"},
+    {NeighborhoodMode::adaptive, "adaptive"},
+}};
+
+/// Parameters of NeighborhoodSelection. Counts include the query point itself.
+struct NeighborhoodParameters {
+  NeighborhoodMode mode = NeighborhoodMode::knn;
+  /// Neighbors per point in knn mode, and the cap in hybrid mode. Range [3, 10000].
+  int k = 16;
+  /// Search radius in the cloud's units, required in radius and hybrid modes. Range (0, ∞).
+  std::optional<double> radius;
+  /// In radius mode, keep at most this many of the nearest neighbors (unset: all). Range [3, ∞).
+  std::optional<int> max_neighbors;
+  /// Adaptive mode: the candidate sizes k_min, k_min + k_step, ..., k_max. 3 ≤ k_min ≤ k_max ≤ 10000.
+  int k_min = 8;
+  int k_max = 48;
+  int k_step = 2;
+  /// OpenMP threads; 0 means as many as the machine has.
+  int threads = 0;
+
+  /// Throws InvalidParameterError naming the field, its value and the broken constraint.
+  void validate() const;
+};
+
+/// Counters of one NeighborhoodSelection::compute() call, for tests and reports.
+struct NeighborhoodStatistics {
+  std::size_t queries = 0;        ///< neighbor searches made (one per finite queried point)
+  std::size_t tree_builds = 0;    ///< kd-tree builds made (0 when the given tree was already built)
+  std::size_t min_size = 0;       ///< smallest non-empty neighborhood
+  std::size_t max_size = 0;       ///< largest neighborhood
+  double mean_size = 0.0;         ///< mean size over queried finite points
+  std::size_t skipped_nonfinite = 0;  ///< queried points with NaN/inf coordinates (empty lists)
+};
+
+/// Computes the neighborhood of every (indexed) point of a cloud.
+///
+/// Usage follows PCL: setInputCloud(), optionally setIndices() and setSearchMethod(), then
+/// compute(). The result has one list per cloud point (see Neighborhoods); only the indexed points
+/// are queried. The search structure is built once on the whole input cloud.
+template <typename PointT>
+class NeighborhoodSelection : public pcl::PCLBase<PointT> {
+ public:
+  using Ptr = std::shared_ptr<NeighborhoodSelection<PointT>>;
+  using ConstPtr = std::shared_ptr<const NeighborhoodSelection<PointT>>;
+  using SearchPtr = typename pcl::search::Search<PointT>::Ptr;
+
+  NeighborhoodSelection() = default;
+
+  void setParameters(const NeighborhoodParameters& parameters) {
+    parameters.validate();
+    parameters_ = parameters;
+  }
+  const NeighborhoodParameters& getParameters() const { return parameters_; }
+
+  /// A search structure to use instead of a new pcl::search::KdTree. If its input cloud is
+  /// already the input cloud, it is not rebuilt.
+  void setSearchMethod(const SearchPtr& search) { search_ = search; }
+  SearchPtr getSearchMethod() const { return search_; }
+
+  /// Computes the neighborhoods. Throws DegenerateInputError on an empty input or when fewer than
+  /// two finite points exist.
+  void compute(Neighborhoods& output);
+
+  const NeighborhoodStatistics& statistics() const { return statistics_; }
+
+ protected:
+  using pcl::PCLBase<PointT>::input_;
+  using pcl::PCLBase<PointT>::indices_;
+
+ private:
+  NeighborhoodParameters parameters_;
+  SearchPtr search_;
+  NeighborhoodStatistics statistics_;
+};
+
+}  // namespace slipfit

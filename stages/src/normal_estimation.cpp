@@ -1,0 +1,32 @@
+#include "slipfit/normal_estimation.h"
+
+#include "slipfit/impl/normal_estimation.hpp"
+
+#include <pcl/point_types.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace slipfit {
+
+void NormalParameters::validate() const {
+  auto reject = [](const char* field, const std::string& value, const char* constraint) {
+    std::ostringstream os;
+    os << "normal parameters: " << field << " = " << value << " violates " << constraint;
+    throw InvalidParameterError(os.str());
+  };
+  if (k < 3 || k > 10000) reject("k", std::to_string(k), "'3 <= k <= 10000'");
+  if (radius && !(*radius > 0.0 && std::isfinite(*radius)))
+    reject("radius", std::to_string(*radius), "'0 < radius < inf'");
+  if (viewpoint && !viewpoint->allFinite()) reject("viewpoint", "non-finite", "'finite coordinates'");
+  if (threads < 0) reject("threads", std::to_string(threads), "'threads >= 0'");
+}
+
+template class NormalEstimation<pcl::PointXYZ, pcl::Normal>;
+template class NormalEstimation<pcl::PointXYZ, pcl::PointNormal>;
+template class NormalEstimation<pcl::PointXYZRGB, pcl::Normal>;
+template class NormalEstimation<pcl::PointNormal, pcl::Normal>;
+template class NormalEstimation<pcl::PointNormal, pcl::PointNormal>;
+template class NormalEstimation<pcl::PointXYZRGBNormal, pcl::Normal>;
+
+}  // namespace slipfit
