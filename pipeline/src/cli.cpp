@@ -35,7 +35,8 @@ ConfigArgs parseConfigArgs(const std::vector<std::string>& args, bool allow_quie
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& a = args[i];
     if (a == "--set") {
-      if (i + 1 >= args.size()) throw ConfigError("--set needs KEY=VALUE");
+      if (i + 1 >= args.size())
+        throw ConfigError("--set needs KEY=VALUE");
       parsed.overrides.push_back(args[++i]);
     } else if (a.rfind("--set=", 0) == 0) {
       parsed.overrides.push_back(a.substr(6));
@@ -49,17 +50,20 @@ ConfigArgs parseConfigArgs(const std::vector<std::string>& args, bool allow_quie
       throw ConfigError("'" + args[0] + "' takes one config file, got also '" + a + "'");
     }
   }
-  if (parsed.config.empty()) throw ConfigError("'" + args[0] + "' needs a CONFIG.yaml");
+  if (parsed.config.empty())
+    throw ConfigError("'" + args[0] + "' needs a CONFIG.yaml");
   return parsed;
 }
 
 void describeOptions(const OptionSet& options, std::ostream& out) {
   for (const auto& o : options.all()) {
     out << "  " << o->name() << "  (" << o->type();
-    if (!o->unit().empty()) out << ", " << o->unit();
+    if (!o->unit().empty())
+      out << ", " << o->unit();
     out << ")  default: " << (o->isRequired() ? "required" : o->defaultText());
     const std::string range = o->rangeText();
-    if (!range.empty()) out << "  range: " << range;
+    if (!range.empty())
+      out << "  range: " << range;
     out << "\n      " << o->help() << "\n";
   }
 }
@@ -77,7 +81,8 @@ int describe(const std::string& name, std::ostream& out) {
     output.declare(options);
   } else {
     const StageInfo* info = findStage(name);
-    if (!info) throw ConfigError("unknown stage '" + name + "'; known stages: " + knownStagesText());
+    if (!info)
+      throw ConfigError("unknown stage '" + name + "'; known stages: " + knownStagesText());
     stage = info->make();
     stage->declare(options);
     out << info->name << ": " << info->summary << "\n";
@@ -92,7 +97,8 @@ int describe(const std::string& name, std::ostream& out) {
 }
 
 int dispatch(const std::vector<std::string>& args, std::ostream& out) {
-  if (args.empty()) throw ConfigError("no command given; try 'slipfit --help'");
+  if (args.empty())
+    throw ConfigError("no command given; try 'slipfit --help'");
   const std::string& command = args[0];
   if (command == "--help" || command == "-h" || command == "help") {
     out << kUsage;
@@ -103,13 +109,15 @@ int dispatch(const std::vector<std::string>& args, std::ostream& out) {
     return kSuccess;
   }
   if (command == "stages") {
-    if (args.size() != 1) throw ConfigError("'stages' takes no arguments");
+    if (args.size() != 1)
+      throw ConfigError("'stages' takes no arguments");
     for (const auto& info : stageRegistry())
       out << std::left << std::setw(26) << info.name << info.summary << "\n";
     return kSuccess;
   }
   if (command == "describe") {
-    if (args.size() != 2) throw ConfigError("'describe' takes one stage name");
+    if (args.size() != 2)
+      throw ConfigError("'describe' takes one stage name");
     return describe(args[1], out);
   }
   if (command == "validate") {

@@ -8,9 +8,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 
 namespace slipfit::pipeline {
@@ -48,28 +50,39 @@ double load(const std::uint8_t* p) {
 
 double valueAt(const std::uint8_t* p, std::uint8_t datatype) {
   switch (datatype) {
-    case Field::INT8: return load<std::int8_t>(p);
-    case Field::UINT8: return load<std::uint8_t>(p);
-    case Field::INT16: return load<std::int16_t>(p);
-    case Field::UINT16: return load<std::uint16_t>(p);
-    case Field::INT32: return load<std::int32_t>(p);
-    case Field::UINT32: return load<std::uint32_t>(p);
-    case Field::FLOAT32: return load<float>(p);
-    case Field::FLOAT64: return load<double>(p);
-    default: return std::numeric_limits<double>::quiet_NaN();
+    case Field::INT8:
+      return load<std::int8_t>(p);
+    case Field::UINT8:
+      return load<std::uint8_t>(p);
+    case Field::INT16:
+      return load<std::int16_t>(p);
+    case Field::UINT16:
+      return load<std::uint16_t>(p);
+    case Field::INT32:
+      return load<std::int32_t>(p);
+    case Field::UINT32:
+      return load<std::uint32_t>(p);
+    case Field::FLOAT32:
+      return load<float>(p);
+    case Field::FLOAT64:
+      return load<double>(p);
+    default:
+      return std::numeric_limits<double>::quiet_NaN();
   }
 }
 
 const Field* findField(const pcl::PCLPointCloud2& blob, const char* name) {
   for (const auto& f : blob.fields)
-    if (f.name == name) return &f;
+    if (f.name == name)
+      return &f;
   return nullptr;
 }
 
 bool isGeometryField(const std::string& name) {
-  static const char* const kNames[] = {"x", "y", "z", "normal_x", "normal_y", "normal_z",
-                                       "nx", "ny", "nz", "curvature"};
-  return std::any_of(std::begin(kNames), std::end(kNames), [&](const char* n) { return name == n; });
+  static const char* const kNames[] = {"x",        "y",  "z",  "normal_x", "normal_y",
+                                       "normal_z", "nx", "ny", "nz",       "curvature"};
+  return std::any_of(std::begin(kNames), std::end(kNames),
+                     [&](const char* n) { return name == n; });
 }
 
 std::string lowerExtension(const std::string& path) {
@@ -89,18 +102,115 @@ void appendField(pcl::PCLPointCloud2& blob, const std::string& name, std::uint8_
   blob.point_step += static_cast<std::uint32_t>(typeSize(datatype));
 }
 
+const char* plyTypeName(std::uint8_t datatype) {
+  switch (datatype) {
+    case Field::INT8:
+      return "char";
+    case Field::UINT8:
+      return "uchar";
+    case Field::INT16:
+      return "short";
+    case Field::UINT16:
+      return "ushort";
+    case Field::INT32:
+      return "int";
+    case Field::UINT32:
+      return "uint";
+    case Field::FLOAT32:
+      return "float";
+    default:
+      return "double";
+  }
+}
+
+template <typename T>
+char* printValue(char* out, char* end, const std::uint8_t* p) {
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  // Shortest text that reads back to the same value, for floats as for integers.
+  return std::to_chars(out, end, v).ptr;
+}
+
+/// ASCII PLY with exact values. PCL 1.13's PLYWriter::writeASCII prints PCLPointCloud2 values with
+/// 6 significant digits whatever its precision argument, which loses data; binary output goes
+/// through PCL.
+void writeAsciiPly(const pcl::PCLPointCloud2& blob, const std::string& path) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out)
+    throw RunError("output '" + path + "': cannot be opened for writing");
+  out << "ply\nformat ascii 1.0\ncomment slipfit\nelement vertex " << blob.width * blob.height
+      << "\n";
+  for (const auto& f : blob.fields) {
+    // MeshLab and CloudCompare know normals as nx, ny, nz (PCL's binary writer renames them too).
+    std::string name = f.name;
+    if (name.rfind("normal_", 0) == 0)
+      name = "n" + name.substr(7);
+    out << "property " << plyTypeName(f.datatype) << " " << name << "\n";
+  }
+  out << "end_header\n";
+  std::string line;
+  char buffer[64];
+  for (std::size_t i = 0; i < static_cast<std::size_t>(blob.width) * blob.height; ++i) {
+    line.clear();
+    const std::uint8_t* row = blob.data.data() + i * blob.point_step;
+    for (std::size_t c = 0; c < blob.fields.size(); ++c) {
+      const Field& f = blob.fields[c];
+      const std::uint8_t* p = row + f.offset;
+      char* end = buffer + sizeof(buffer);
+      char* stop = buffer;
+      switch (f.datatype) {
+        case Field::INT8:
+          stop = printValue<std::int8_t>(buffer, end, p);
+          break;
+        case Field::UINT8:
+          stop = printValue<std::uint8_t>(buffer, end, p);
+          break;
+        case Field::INT16:
+          stop = printValue<std::int16_t>(buffer, end, p);
+          break;
+        case Field::UINT16:
+          stop = printValue<std::uint16_t>(buffer, end, p);
+          break;
+        case Field::INT32:
+          stop = printValue<std::int32_t>(buffer, end, p);
+          break;
+        case Field::UINT32:
+          stop = printValue<std::uint32_t>(buffer, end, p);
+          break;
+        case Field::FLOAT32:
+          stop = printValue<float>(buffer, end, p);
+          break;
+        default:
+          stop = printValue<double>(buffer, end, p);
+          break;
+      }
+      if (c)
+        line += ' ';
+      line.append(buffer, stop);
+    }
+    line += '\n';
+    out << line;
+  }
+  out.close();
+  if (!out)
+    throw RunError("output '" + path + "': write failed (disk full?)");
+}
+
 }  // namespace
 
 PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report) {
   const std::string where = "input '" + path + "': ";
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
-  if (!fs::exists(status)) throw RunError(where + "no such file");
-  if (fs::is_directory(status)) throw RunError(where + "is a directory, not a point cloud file");
+  if (!fs::exists(status))
+    throw RunError(where + "no such file");
+  if (fs::is_directory(status))
+    throw RunError(where + "is a directory, not a point cloud file");
   const std::string ext = lowerExtension(path);
   if (ext != ".ply" && ext != ".pcd")
     throw RunError(where + "unsupported file type '" + ext + "' (expected .ply or .pcd)");
-  if (fs::file_size(path, ec) == 0) throw RunError(where + "the file is empty");
+  if (fs::file_size(path, ec) == 0)
+    throw RunError(where + "the file is empty");
 
   pcl::PCLPointCloud2 blob;
   Eigen::Vector4f origin;
@@ -119,24 +229,30 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
     throw RunError(where + "cannot be read: " + e.what());
   }
   const char* kind = ext == ".ply" ? "PLY" : "PCD";
-  if (rc < 0) throw RunError(where + "not a readable " + kind + " file (malformed or truncated)");
+  if (rc < 0)
+    throw RunError(where + "not a readable " + kind + " file (malformed or truncated)");
   const std::size_t n = static_cast<std::size_t>(blob.width) * blob.height;
   if (blob.data.size() != n * blob.point_step)
     throw RunError(where + "truncated: the header announces " + std::to_string(n) +
                    " points but the data holds " +
                    std::to_string(blob.point_step ? blob.data.size() / blob.point_step : 0));
-  if (n == 0) throw RunError(where + "the cloud is empty (0 points)");
+  if (n == 0)
+    throw RunError(where + "the cloud is empty (0 points)");
 
   const Field* fx = findField(blob, "x");
   const Field* fy = findField(blob, "y");
   const Field* fz = findField(blob, "z");
-  if (!fx || !fy || !fz) throw RunError(where + "no x, y, z fields");
+  if (!fx || !fy || !fz)
+    throw RunError(where + "no x, y, z fields");
   const Field* fnx = findField(blob, "normal_x");
   const Field* fny = findField(blob, "normal_y");
   const Field* fnz = findField(blob, "normal_z");
-  if (!fnx) fnx = findField(blob, "nx");
-  if (!fny) fny = findField(blob, "ny");
-  if (!fnz) fnz = findField(blob, "nz");
+  if (!fnx)
+    fnx = findField(blob, "nx");
+  if (!fny)
+    fny = findField(blob, "ny");
+  if (!fnz)
+    fnz = findField(blob, "nz");
   bool has_normals = fnx && fny && fnz;
   const Field* fcurv = findField(blob, "curvature");
 
@@ -159,7 +275,7 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
               std::abs(x) <= std::numeric_limits<float>::max() &&
               std::abs(y) <= std::numeric_limits<float>::max() &&
               std::abs(z) <= std::numeric_limits<float>::max();
-    const char* what = "a non-finite coordinate (NaN or inf)";
+    const char* what = "a non-finite coordinate (NaN, inf or not a number)";
     if (ok && has_normals) {
       const double nx = value(i, fnx), ny = value(i, fny), nz = value(i, fnz);
       ok = std::isfinite(nx) && std::isfinite(ny) && std::isfinite(nz) &&
@@ -211,7 +327,8 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   out.width = static_cast<std::uint32_t>(keep.size());
   out.is_bigendian = false;
   out.is_dense = true;
-  for (const Field* f : extra) appendField(out, f->name, f->datatype);
+  for (const Field* f : extra)
+    appendField(out, f->name, f->datatype);
   out.row_step = out.point_step * out.width;
   out.data.resize(static_cast<std::size_t>(out.row_step));
   for (std::size_t j = 0; j < keep.size(); ++j)
@@ -225,7 +342,8 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
     report->dropped = n - keep.size();
     report->normals = has_normals;
     report->extra_fields.clear();
-    for (const Field* f : extra) report->extra_fields += (report->extra_fields.empty() ? "" : ", ") + f->name;
+    for (const Field* f : extra)
+      report->extra_fields += (report->extra_fields.empty() ? "" : ", ") + f->name;
   }
   return data;
 }
@@ -287,12 +405,18 @@ pcl::PCLPointCloud2 toBlob(const PointData& data) {
 }
 
 void writeCloudPly(const PointData& data, const std::string& path, bool binary) {
-  if (data.size() == 0) throw RunError("output '" + path + "': no points to write");
+  if (data.size() == 0)
+    throw RunError("output '" + path + "': no points to write");
   const pcl::PCLPointCloud2 blob = toBlob(data);
   pcl::PLYWriter writer;
-  const int rc = writer.write(path, blob, Eigen::Vector4f::Zero(), Eigen::Quaternionf::Identity(),
-                              binary, false);
-  if (rc < 0) throw RunError("output '" + path + "': cannot be written");
+  if (!binary) {
+    writeAsciiPly(blob, path);
+    return;
+  }
+  const int rc = writer.writeBinary(path, blob, Eigen::Vector4f::Zero(),
+                                    Eigen::Quaternionf::Identity(), false);
+  if (rc < 0)
+    throw RunError("output '" + path + "': cannot be written");
 }
 
 }  // namespace slipfit::pipeline

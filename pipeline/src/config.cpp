@@ -37,7 +37,8 @@ class Loader {
  public:
   Loader(std::string path, const std::vector<std::string>& overrides) : path_(std::move(path)) {
     std::error_code ec;
-    if (!std::filesystem::exists(path_, ec)) fail("config '" + path_ + "': no such file");
+    if (!std::filesystem::exists(path_, ec))
+      fail("config '" + path_ + "': no such file");
     if (std::filesystem::is_directory(path_, ec))
       fail("config '" + path_ + "': is a directory, not a YAML file");
     try {
@@ -47,8 +48,10 @@ class Loader {
     } catch (const YAML::Exception& e) {
       fail("config '" + path_ + "': " + e.what());
     }
-    if (!root_.IsMap()) fail(path_ + ": the config must be a YAML map with input, stages, output");
-    for (const auto& o : overrides) applyOverride(o);
+    if (!root_.IsMap())
+      fail(path_ + ": the config must be a YAML map with input, stages, output");
+    for (const auto& o : overrides)
+      applyOverride(o);
   }
 
   PipelineConfig load() {
@@ -67,13 +70,16 @@ class Loader {
       config.settings.declare(options);
       applyMap(root, options, "", "top level", /*skip=*/{"input", "output", "stages"});
     }
-    if (!root["input"]) fail(path_ + ": missing 'input' section (input: {path: cloud.ply})");
+    if (!root["input"])
+      fail(path_ + ": missing 'input' section (input: {path: cloud.ply})");
     parseSection(root["input"], "input", [&](OptionSet& o) { config.input.declare(o); });
     if (root["output"])
       parseSection(root["output"], "output", [&](OptionSet& o) { config.output.declare(o); });
     const YAML::Node stages = root["stages"];
-    if (!stages) fail(path_ + ": missing 'stages' list");
-    if (!stages.IsSequence()) fail(at(stages.Mark()) + "'stages' must be a list of stages");
+    if (!stages)
+      fail(path_ + ": missing 'stages' list");
+    if (!stages.IsSequence())
+      fail(at(stages.Mark()) + "'stages' must be a list of stages");
 
     std::set<std::string> tags;
     for (const auto& node : stages) {
@@ -83,7 +89,8 @@ class Loader {
       config.stages.push_back(std::move(s));
     }
     const std::string flow = checkDataFlow(config, kPoints | kNormals);
-    if (!flow.empty()) fail(path_ + ": " + flow);
+    if (!flow.empty())
+      fail(path_ + ": " + flow);
     return config;
   }
 
@@ -91,14 +98,18 @@ class Loader {
   [[noreturn]] static void fail(const std::string& message) { throw ConfigError(message); }
 
   std::string at(const YAML::Mark& mark) const {
-    if (mark.is_null()) return path_ + ": ";
-    return path_ + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1) + ": ";
+    if (mark.is_null())
+      return path_ + ": ";
+    return path_ + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1) +
+           ": ";
   }
 
   /// Location of a key: the --set that put it there, or its place in the file.
-  std::string keyPlace(const std::string& section, const std::string& key, const YAML::Mark& mark) const {
+  std::string keyPlace(const std::string& section, const std::string& key,
+                       const YAML::Mark& mark) const {
     const auto it = overrides_.find(section + "." + key);
-    if (it != overrides_.end()) return "--set " + it->second + ": ";
+    if (it != overrides_.end())
+      return "--set " + it->second + ": ";
     return at(mark);
   }
 
@@ -116,7 +127,8 @@ class Loader {
     const auto dot = key.find('.');
     if (dot == std::string::npos) {
       if (key != "threads" && key != "seed")
-        fail("--set " + text + ": expected SECTION.KEY (input.path, output.dir, TAG.OPTION) or "
+        fail("--set " + text +
+             ": expected SECTION.KEY (input.path, output.dir, TAG.OPTION) or "
              "threads / seed");
       root_[key] = value;
       overrides_["." + key] = text;
@@ -127,7 +139,8 @@ class Loader {
       fail("--set " + text + ": expected SECTION.KEY with one dot");
     overrides_[section + "." + option] = text;
     if (section == "input" || section == "output") {
-      if (!root_[section]) root_[section] = YAML::Node(YAML::NodeType::Map);
+      if (!root_[section])
+        root_[section] = YAML::Node(YAML::NodeType::Map);
       root_[section][option] = value;
       return;
     }
@@ -140,21 +153,25 @@ class Loader {
         return;
       }
     }
-    fail("--set " + text + ": no stage is tagged '" + section + "'; tags: " +
-         (tags.empty() ? "none" : tags) + " (and the sections input, output)");
+    fail("--set " + text + ": no stage is tagged '" + section +
+         "'; tags: " + (tags.empty() ? "none" : tags) + " (and the sections input, output)");
   }
 
   static std::string stageTag(const YAML::Node& node) {
-    if (!node.IsMap()) return "";
+    if (!node.IsMap())
+      return "";
     const YAML::Node& c = node;
-    if (c["tag"] && c["tag"].IsScalar()) return c["tag"].Scalar();
-    if (c["type"] && c["type"].IsScalar()) return c["type"].Scalar();
+    if (c["tag"] && c["tag"].IsScalar())
+      return c["tag"].Scalar();
+    if (c["type"] && c["type"].IsScalar())
+      return c["type"].Scalar();
     return "";
   }
 
   template <typename Declare>
   void parseSection(const YAML::Node& node, const std::string& name, Declare declare) {
-    if (!node.IsMap()) fail(at(node.Mark()) + "'" + name + "' must be a map of options");
+    if (!node.IsMap())
+      fail(at(node.Mark()) + "'" + name + "' must be a map of options");
     OptionSet options;
     declare(options);
     applyMap(node, options, name, "section '" + name + "'", {});
@@ -166,7 +183,8 @@ class Loader {
     std::set<std::string> seen;
     for (const auto& kv : node) {
       const std::string key = kv.first.Scalar();
-      if (skip.count(key)) continue;
+      if (skip.count(key))
+        continue;
       const Option* option = options.find(key);
       const std::string place = keyPlace(section, key, kv.first.Mark());
       if (!option)
@@ -186,13 +204,16 @@ class Loader {
   ConfiguredStage parseStage(const YAML::Node& node) {
     ConfiguredStage s;
     s.where = at(node.Mark());
-    if (!node.IsMap()) fail(s.where + "each stage must be a map with at least 'type'");
+    if (!node.IsMap())
+      fail(s.where + "each stage must be a map with at least 'type'");
     const YAML::Node type = node["type"];
-    if (!type || !type.IsScalar()) fail(s.where + "stage without 'type'; known stages: " + knownStagesText());
+    if (!type || !type.IsScalar())
+      fail(s.where + "stage without 'type'; known stages: " + knownStagesText());
     s.type = type.Scalar();
     const StageInfo* info = findStage(s.type);
     if (!info)
-      fail(at(type.Mark()) + "unknown stage type '" + s.type + "'; known stages: " + knownStagesText());
+      fail(at(type.Mark()) + "unknown stage type '" + s.type +
+           "'; known stages: " + knownStagesText());
     s.tag = node["tag"] ? node["tag"].Scalar() : s.type;
     if (s.tag.empty() || s.tag.find('.') != std::string::npos)
       fail(at(node["tag"].Mark()) + "stage tag '" + s.tag + "' must be non-empty and without dots");

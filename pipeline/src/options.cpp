@@ -13,7 +13,8 @@ namespace slipfit::pipeline {
 namespace {
 
 std::string number(double v) {
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  if (std::isinf(v))
+    return v > 0 ? "inf" : "-inf";
   std::ostringstream os;
   os.precision(9);
   os << v;
@@ -39,7 +40,8 @@ double parseNumber(const YAML::Node& node, const Option& option, bool integer) {
     if (is.fail() || is.peek() != std::char_traits<char>::eof())
       throw OptionValueError("expected a number, got '" + text + "'");
   }
-  if (!std::isfinite(value)) throw OptionValueError("expected a finite number, got '" + text + "'");
+  if (!std::isfinite(value))
+    throw OptionValueError("expected a finite number, got '" + text + "'");
   option.checkRange(value);
   return value;
 }
@@ -48,7 +50,8 @@ Eigen::Vector3f parseVec3(const YAML::Node& node, const Option& option) {
   if (!node.IsSequence() || node.size() != 3)
     throw OptionValueError("expected a list of three numbers like [0, 0, 1]");
   Eigen::Vector3f v;
-  for (int i = 0; i < 3; ++i) v[i] = static_cast<float>(parseNumber(node[i], option, false));
+  for (int i = 0; i < 3; ++i)
+    v[i] = static_cast<float>(parseNumber(node[i], option, false));
   return v;
 }
 
@@ -57,10 +60,12 @@ Eigen::Vector3f parseVec3(const YAML::Node& node, const Option& option) {
 std::string Option::rangeText() const {
   if (!choices_.empty()) {
     std::string s = "one of ";
-    for (std::size_t i = 0; i < choices_.size(); ++i) s += (i ? ", " : "") + choices_[i];
+    for (std::size_t i = 0; i < choices_.size(); ++i)
+      s += (i ? ", " : "") + choices_[i];
     return s;
   }
-  if (!lo_ && !hi_) return "";
+  if (!lo_ && !hi_)
+    return "";
   return std::string(lo_open_ ? "(" : "[") + (lo_ ? number(*lo_) : "-inf") + ", " +
          (hi_ ? number(*hi_) + "]" : "inf)");
 }
@@ -75,7 +80,9 @@ void Option::checkRange(double value) const {
 std::string OptionSet::scalarText(const YAML::Node& node, const Option& option) {
   if (!node.IsScalar())
     throw OptionValueError("expected a single " + option.type() + " value, got a " +
-                           (node.IsSequence() ? "list" : node.IsMap() ? "map" : "null"));
+                           (node.IsSequence() ? "list"
+                            : node.IsMap()    ? "map"
+                                              : "null"));
   return node.Scalar();
 }
 
@@ -138,7 +145,8 @@ Option& OptionSet::add(std::string name, std::string& field, std::string help) {
   return push(std::move(name), "string", field.empty() ? "\"\"" : field, std::move(help),
               [&field](const YAML::Node& node, const Option& option) {
                 field = scalarText(node, option);
-                if (field.empty()) throw OptionValueError("must not be empty");
+                if (field.empty())
+                  throw OptionValueError("must not be empty");
               });
 }
 
@@ -157,28 +165,28 @@ Option& OptionSet::add(std::string name, std::optional<double>& field, std::stri
 }
 
 Option& OptionSet::add(std::string name, Eigen::Vector3f& field, std::string help) {
-  return push(std::move(name), "vec3", vec3Text(field), std::move(help),
-              [&field](const YAML::Node& node, const Option& option) {
-                field = parseVec3(node, option);
-              });
+  return push(
+      std::move(name), "vec3", vec3Text(field), std::move(help),
+      [&field](const YAML::Node& node, const Option& option) { field = parseVec3(node, option); });
 }
 
 Option& OptionSet::add(std::string name, std::optional<Eigen::Vector3f>& field, std::string help) {
-  return push(std::move(name), "vec3", field ? vec3Text(*field) : "unset", std::move(help),
-              [&field](const YAML::Node& node, const Option& option) {
-                field = parseVec3(node, option);
-              });
+  return push(
+      std::move(name), "vec3", field ? vec3Text(*field) : "unset", std::move(help),
+      [&field](const YAML::Node& node, const Option& option) { field = parseVec3(node, option); });
 }
 
 const Option* OptionSet::find(std::string_view name) const {
   for (const auto& o : options_)
-    if (o->name() == name) return o.get();
+    if (o->name() == name)
+      return o.get();
   return nullptr;
 }
 
 std::string OptionSet::namesText() const {
   std::string s;
-  for (const auto& o : options_) s += (s.empty() ? "" : ", ") + o->name();
+  for (const auto& o : options_)
+    s += (s.empty() ? "" : ", ") + o->name();
   return s;
 }
 

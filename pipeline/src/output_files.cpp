@@ -13,7 +13,8 @@ namespace fs = std::filesystem;
 
 OutputFiles::~OutputFiles() {
   std::error_code ec;
-  for (const auto& [tmp, final_path] : pending_) fs::remove(tmp, ec);
+  for (const auto& [tmp, final_path] : pending_)
+    fs::remove(tmp, ec);
 }
 
 void OutputFiles::add(const std::string& name,
@@ -46,7 +47,9 @@ std::vector<std::string> OutputFiles::commit() {
   for (const auto& [tmp, final_path] : pending_) {
     std::error_code ec;
     fs::rename(tmp, final_path, ec);
-    if (ec) throw RunError("output '" + final_path + "': cannot rename into place (" + ec.message() + ")");
+    if (ec)
+      throw RunError("output '" + final_path + "': cannot rename into place (" + ec.message() +
+                     ")");
     written.push_back(final_path);
   }
   pending_.clear();

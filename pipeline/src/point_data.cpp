@@ -15,14 +15,16 @@ void PointData::setField(PointField field) {
 
 const PointField* PointData::field(const std::string& name) const {
   for (const auto& f : fields)
-    if (f.name == name) return &f;
+    if (f.name == name)
+      return &f;
   return nullptr;
 }
 
 std::string dataBitsText(unsigned bits) {
   std::string s;
   auto add = [&](unsigned bit, const char* name) {
-    if (bits & bit) s += (s.empty() ? "" : ", ") + std::string(name);
+    if (bits & bit)
+      s += (s.empty() ? "" : ", ") + std::string(name);
   };
   add(kPoints, "points");
   add(kNormals, "normals");
@@ -39,19 +41,23 @@ void PointData::keepOnly(const std::vector<char>& keep) {
   std::vector<pcl::index_t> new_index(n, -1);
   std::size_t m = 0;
   for (std::size_t i = 0; i < n; ++i)
-    if (keep[i]) new_index[i] = static_cast<pcl::index_t>(m++);
-  if (m == n) return;
+    if (keep[i])
+      new_index[i] = static_cast<pcl::index_t>(m++);
+  if (m == n)
+    return;
 
   auto compact = [&](auto& vec) {
     std::size_t j = 0;
     for (std::size_t i = 0; i < n; ++i)
-      if (keep[i]) vec[j++] = vec[i];
+      if (keep[i])
+        vec[j++] = vec[i];
     vec.resize(m);
   };
   compact(cloud->points);
   cloud->width = static_cast<std::uint32_t>(m);
   cloud->height = 1;
-  for (auto& f : fields) std::visit(compact, f.values);
+  for (auto& f : fields)
+    std::visit(compact, f.values);
   if (extra.width == n && extra.point_step > 0) {
     std::size_t j = 0;
     for (std::size_t i = 0; i < n; ++i)
@@ -72,7 +78,8 @@ void PointData::keepOnly(const std::vector<char>& keep) {
     pcl::Indices ind;
     std::vector<float> dist;
     for (std::size_t i = 0; i < n; ++i) {
-      if (!keep[i]) continue;
+      if (!keep[i])
+        continue;
       ind.clear();
       dist.clear();
       const NeighborView v = (*neighborhoods)[i];

@@ -11,12 +11,15 @@ Progress::Progress(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO) =
 void Progress::begin(std::size_t index, std::size_t count, const std::string& label) {
   label_ = label;
   start_ = std::chrono::steady_clock::now();
-  if (enabled_) std::fprintf(stderr, "[%zu/%zu] %s ...", index, count, label.c_str());
-  if (enabled_) std::fflush(stderr);
+  if (enabled_)
+    std::fprintf(stderr, "[%zu/%zu] %s ...", index, count, label.c_str());
+  if (enabled_)
+    std::fflush(stderr);
 }
 
 void Progress::end() {
-  if (enabled_) std::fprintf(stderr, " %.2f s\n", elapsed());
+  if (enabled_)
+    std::fprintf(stderr, " %.2f s\n", elapsed());
 }
 
 double Progress::elapsed() const {

@@ -15,13 +15,15 @@ const std::vector<StageInfo>& stageRegistry() {
 
 const StageInfo* findStage(std::string_view name) {
   for (const auto& info : stageRegistry())
-    if (info.name == name) return &info;
+    if (info.name == name)
+      return &info;
   return nullptr;
 }
 
 std::string knownStagesText() {
   std::string s;
-  for (const auto& info : stageRegistry()) s += (s.empty() ? "" : ", ") + std::string(info.name);
+  for (const auto& info : stageRegistry())
+    s += (s.empty() ? "" : ", ") + std::string(info.name);
   return s;
 }
 

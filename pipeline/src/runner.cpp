@@ -32,13 +32,16 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
   PointData data = readCloud(config.input.path, config.input.nan, &read);
   progress.end();
   report << "input: " << config.input.path << ": " << data.size() << " points";
-  if (read.dropped) report << " (" << read.dropped << " non-finite dropped)";
+  if (read.dropped)
+    report << " (" << read.dropped << " non-finite dropped)";
   report << ", normals: " << (read.normals ? "yes" : "no");
-  if (!read.extra_fields.empty()) report << ", fields: " << read.extra_fields;
+  if (!read.extra_fields.empty())
+    report << ", fields: " << read.extra_fields;
   report << "\n";
 
   const std::string flow = checkDataFlow(config, data.available());
-  if (!flow.empty()) throw RunError(config.input.path + ": " + flow);
+  if (!flow.empty())
+    throw RunError(config.input.path + ": " + flow);
 
   RunContext context{progress, report, config.settings.threads, config.settings.seed};
   for (std::size_t i = 0; i < config.stages.size(); ++i) {
@@ -63,7 +66,8 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
   });
   const auto written = outputs.commit();
   progress.end();
-  for (const auto& path : written) report << "wrote " << path << "\n";
+  for (const auto& path : written)
+    report << "wrote " << path << "\n";
   return written;
 }
 

@@ -7,13 +7,15 @@ namespace slipfit {
 
 std::size_t Neighborhoods::maxSize() const {
   std::size_t best = 0;
-  for (std::size_t i = 0; i < size(); ++i) best = std::max<std::size_t>(best, (*this)[i].size());
+  for (std::size_t i = 0; i < size(); ++i)
+    best = std::max<std::size_t>(best, (*this)[i].size());
   return best;
 }
 
 float Neighborhoods::radius(std::size_t i) const {
   const NeighborView v = (*this)[i];
-  if (v.empty()) return 0.0f;
+  if (v.empty())
+    return 0.0f;
   // Lists are sorted by distance, but radius-mode lists from FLANN need not be: take the max.
   return std::sqrt(*std::max_element(v.sqr_distances, v.sqr_distances + v.count));
 }

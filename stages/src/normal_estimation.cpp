@@ -15,11 +15,14 @@ void NormalParameters::validate() const {
     os << "normal parameters: " << field << " = " << value << " violates " << constraint;
     throw InvalidParameterError(os.str());
   };
-  if (k < 3 || k > 10000) reject("k", std::to_string(k), "'3 <= k <= 10000'");
+  if (k < 3 || k > 10000)
+    reject("k", std::to_string(k), "'3 <= k <= 10000'");
   if (radius && !(*radius > 0.0 && std::isfinite(*radius)))
     reject("radius", std::to_string(*radius), "'0 < radius < inf'");
-  if (viewpoint && !viewpoint->allFinite()) reject("viewpoint", "non-finite", "'finite coordinates'");
-  if (threads < 0) reject("threads", std::to_string(threads), "'threads >= 0'");
+  if (viewpoint && !viewpoint->allFinite())
+    reject("viewpoint", "non-finite", "'finite coordinates'");
+  if (threads < 0)
+    reject("threads", std::to_string(threads), "'threads >= 0'");
 }
 
 template class NormalEstimation<pcl::PointXYZ, pcl::Normal>;

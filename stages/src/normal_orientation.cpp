@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <queue>
 #include <tuple>
 #include <vector>
@@ -13,7 +14,9 @@ namespace slipfit {
 
 namespace {
 
-bool finiteColumn(const ConstCoords3Map& m, Eigen::Index i) { return m.col(i).allFinite(); }
+bool finiteColumn(const ConstCoords3Map& m, Eigen::Index i) {
+  return m.col(i).allFinite();
+}
 
 /// Symmetric adjacency (CSR) of the neighbor graph restricted to vertices with finite normals.
 struct Adjacency {
@@ -27,7 +30,8 @@ Adjacency symmetrise(const Neighborhoods& graph, const std::vector<char>& valid)
   std::vector<std::uint32_t> degree(n, 0);
   auto for_each_edge = [&](const std::function<void(std::size_t, std::size_t)>& f) {
     for (std::size_t i = 0; i < n; ++i) {
-      if (!valid[i]) continue;
+      if (!valid[i])
+        continue;
       for (const auto j : graph[i])
         if (static_cast<std::size_t>(j) != i && valid[static_cast<std::size_t>(j)])
           f(i, static_cast<std::size_t>(j));
@@ -38,7 +42,8 @@ Adjacency symmetrise(const Neighborhoods& graph, const std::vector<char>& valid)
     ++degree[j];
   });
   adj.offsets.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) adj.offsets[i + 1] = adj.offsets[i] + degree[i];
+  for (std::size_t i = 0; i < n; ++i)
+    adj.offsets[i + 1] = adj.offsets[i] + degree[i];
   adj.targets.resize(adj.offsets[n]);
   std::vector<std::uint64_t> fill(adj.offsets.begin(), adj.offsets.end() - 1);
   for_each_edge([&](std::size_t i, std::size_t j) {
@@ -106,7 +111,8 @@ ConsistentOrientationReport orientConsistently(const ConstCoords3Map& points, Co
 
   std::vector<char> seen(n, 0);
   for (std::size_t start = 0; start < n; ++start) {
-    if (!valid[start] || seen[start]) continue;
+    if (!valid[start] || seen[start])
+      continue;
     // Collect the component (breadth first) to choose its seed.
     component.assign(1, static_cast<std::uint32_t>(start));
     seen[start] = 1;
@@ -121,21 +127,34 @@ ConsistentOrientationReport orientConsistently(const ConstCoords3Map& points, Co
       }
     }
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (const auto i : component) centroid += points.col(i).cast<double>();
+    for (const auto i : component)
+      centroid += points.col(i).cast<double>();
     centroid /= static_cast<double>(component.size());
+    // Seed: the point where the orientation cue is strongest. With a viewpoint, the normal most
+    // nearly along the line of sight, |cos(n, v − p)| / ‖v − p‖ (nearer points win, so a closed
+    // surface's far side never seeds), oriented towards the viewer; without, the normal most
+    // nearly radial from the centroid, |(p − c)·n|, oriented away from it (outward when closed).
     std::size_t seed = component.front();
-    double best = -1.0;
+    double best = -std::numeric_limits<double>::infinity();
     for (const auto i : component) {
-      const double radial =
-          std::abs((points.col(i).cast<double>() - centroid).dot(normals.col(i).cast<double>()));
-      if (radial > best) {
-        best = radial;
+      const Eigen::Vector3d p = points.col(i).cast<double>();
+      const Eigen::Vector3d n = normals.col(i).cast<double>();
+      double score = 0.0;
+      if (viewpoint) {
+        const Eigen::Vector3d sight = viewpoint->cast<double>() - p;
+        const double d2 = sight.squaredNorm();
+        score = d2 > 0.0 ? std::abs(n.dot(sight)) / d2 : 0.0;
+      } else {
+        score = std::abs((p - centroid).dot(n));
+      }
+      if (score > best) {
+        best = score;
         seed = i;
       }
     }
-    const Eigen::Vector3f outward = viewpoint
-                                        ? Eigen::Vector3f(*viewpoint - points.col(seed))
-                                        : Eigen::Vector3f(points.col(seed) - centroid.cast<float>());
+    const Eigen::Vector3f outward =
+        viewpoint ? Eigen::Vector3f(*viewpoint - points.col(seed))
+                  : Eigen::Vector3f(points.col(seed) - centroid.cast<float>());
     if (normals.col(seed).dot(outward) < 0.0f) {
       normals.col(seed) = -normals.col(seed);
       ++report.flipped;
@@ -146,7 +165,8 @@ ConsistentOrientationReport orientConsistently(const ConstCoords3Map& points, Co
     auto push_edges = [&](std::size_t u) {
       for (auto e = adj.offsets[u]; e < adj.offsets[u + 1]; ++e) {
         const std::uint32_t v = adj.targets[e];
-        if (done[v]) continue;
+        if (done[v])
+          continue;
         const float cost = 1.0f - std::abs(normals.col(u).dot(normals.col(v)));
         heap.emplace(cost, v, static_cast<std::uint32_t>(u));
       }
@@ -158,7 +178,8 @@ ConsistentOrientationReport orientConsistently(const ConstCoords3Map& points, Co
       const std::uint32_t v = std::get<1>(heap.top());
       const std::uint32_t u = std::get<2>(heap.top());
       heap.pop();
-      if (done[v]) continue;
+      if (done[v])
+        continue;
       flip_if_needed(u, v);
       done[v] = 1;
       ++report.oriented;

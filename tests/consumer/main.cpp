@@ -14,7 +14,8 @@ int main() {
   for (int i = 1; i < rings; ++i)
     for (int j = 0; j < segments; ++j) {
       const double t = M_PI * i / rings, p = 2 * M_PI * j / segments;
-      cloud->push_back(pcl::PointXYZ(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)));
+      cloud->push_back(
+          pcl::PointXYZ(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)));
     }
   auto hoods = std::make_shared<slipfit::Neighborhoods>();
   slipfit::NeighborhoodSelection<pcl::PointXYZ> selection;

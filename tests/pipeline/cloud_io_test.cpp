@@ -1,1 +1,210 @@
+#include "slipfit/pipeline/cloud_io.h"
+#include "slipfit/pipeline/errors.h"
+
+#include "run_cli.h"
+
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <pcl/io/pcd_io.h>
+
+#include <cstring>
+#include <filesystem>
+#include <limits>
+
+namespace slipfit::pipeline {
+namespace {
+
+using ::testing::HasSubstr;
+using Field = pcl::PCLPointField;
+
+/// A cloud with normals, curvature, typed extra fields and stage fields, with awkward values.
+PointData richCloud() {
+  PointData d;
+  const std::size_t n = 257;
+  d.cloud->resize(n);
+  d.has_normals = d.has_curvature = true;
+  pcl::PCLPointCloud2& e = d.extra;
+  e.width = static_cast<std::uint32_t>(n);
+  e.height = 1;
+  const std::pair<const char*, std::uint8_t> fields[] = {
+      {"class_id", Field::UINT8},    {"offset", Field::INT8},     {"ring", Field::UINT16},
+      {"delta", Field::INT16},       {"stamp", Field::UINT32},    {"count", Field::INT32},
+      {"intensity", Field::FLOAT32}, {"gps_time", Field::FLOAT64}};
+  const std::uint32_t sizes[] = {1, 1, 2, 2, 4, 4, 4, 8};
+  for (std::size_t f = 0; f < 8; ++f) {
+    Field pf;
+    pf.name = fields[f].first;
+    pf.datatype = fields[f].second;
+    pf.count = 1;
+    pf.offset = e.point_step;
+    e.fields.push_back(pf);
+    e.point_step += sizes[f];
+  }
+  e.row_step = e.point_step * e.width;
+  e.data.resize(e.row_step);
+  std::vector<std::int32_t> label(n);
+  std::vector<float> weight(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    auto& p = (*d.cloud)[i];
+    const float t = static_cast<float>(i);
+    p.x = 1e4f + t * 1.0000001f;
+    p.y = -t * 3.3333333e-7f;
+    p.z = std::nextafter(0.1f * t, 1e9f);
+    p.getNormalVector3fMap() = Eigen::Vector3f(std::sin(t), std::cos(t), 0.3f).normalized();
+    p.curvature = 1.0f / (1.0f + t);
+    for (std::size_t b = 0; b < e.point_step; ++b)
+      e.data[i * e.point_step + b] = static_cast<std::uint8_t>((i * 131 + b * 17) & 0xff);
+    // Keep the float fields finite (the byte pattern could be NaN, which does not compare).
+    const float intensity = t * 0.7f;
+    const double gps = 1.6e9 + t * 1e-6;
+    std::memcpy(&e.data[i * e.point_step + e.fields[6].offset], &intensity, 4);
+    std::memcpy(&e.data[i * e.point_step + e.fields[7].offset], &gps, 8);
+    label[i] = static_cast<std::int32_t>(i % 7) - 1;
+    weight[i] = 1.0f / 3.0f * t;
+  }
+  d.setField({"label", label});
+  d.setField({"weight", weight});
+  return d;
+}
+
+/// The bytes of field \a name in every row of \a blob.
+std::vector<std::uint8_t> column(const pcl::PCLPointCloud2& blob, const std::string& name) {
+  for (const auto& f : blob.fields)
+    if (f.name == name) {
+      const std::size_t size = pcl::getFieldSize(f.datatype);
+      std::vector<std::uint8_t> out;
+      for (std::size_t i = 0; i < blob.width * blob.height; ++i)
+        out.insert(out.end(), blob.data.begin() + i * blob.point_step + f.offset,
+                   blob.data.begin() + i * blob.point_step + f.offset + size);
+      return out;
+    }
+  ADD_FAILURE() << "no field " << name;
+  return {};
+}
+
+void expectSameBits(const PointData& a, const PointData& b) {
+  const pcl::PCLPointCloud2 ba = toBlob(a), bb = toBlob(b);
+  ASSERT_EQ(ba.width, bb.width);
+  ASSERT_EQ(ba.fields.size(), bb.fields.size());
+  for (const auto& f : ba.fields) {
+    EXPECT_EQ(column(ba, f.name), column(bb, f.name)) << "field " << f.name;
+  }
+}
+
+TEST(CloudIo, BinaryPlyRoundTripIsBitExact) {
+  const PointData d = richCloud();
+  const std::string path = testing::scratchFile("io_bin.ply", "");
+  writeCloudPly(d, path, true);
+  ReadReport report;
+  const PointData back = readCloud(path, NanPolicy::error, &report);
+  EXPECT_TRUE(back.has_normals);
+  EXPECT_TRUE(back.has_curvature);
+  EXPECT_EQ(report.extra_fields,
+            "class_id, offset, ring, delta, stamp, count, intensity, gps_time, label, weight");
+  // Stage fields come back as extra fields; toBlob orders them the same way.
+  expectSameBits(d, back);
+}
+
+TEST(CloudIo, AsciiPlyRoundTripIsBitExact) {
+  const PointData d = richCloud();
+  const std::string path = testing::scratchFile("io_ascii.ply", "");
+  writeCloudPly(d, path, false);
+  EXPECT_THAT(testing::slurp(path), HasSubstr("format ascii 1.0"));
+  expectSameBits(d, readCloud(path, NanPolicy::error));
+}
+
+TEST(CloudIo, ReadsPcdAndKeepsItsFields) {
+  pcl::PointCloud<pcl::PointXYZRGBNormal> c;
+  for (int i = 0; i < 10; ++i) {
+    pcl::PointXYZRGBNormal p;
+    p.x = static_cast<float>(i);
+    p.y = p.z = 0.5f;
+    p.normal_x = 1;
+    p.normal_y = p.normal_z = 0;
+    p.r = static_cast<std::uint8_t>(10 * i);
+    p.g = 1;
+    p.b = 2;
+    p.curvature = 0.25f;
+    c.push_back(p);
+  }
+  const std::string path = testing::scratchFile("io.pcd", "");
+  ASSERT_EQ(pcl::io::savePCDFileBinaryCompressed(path, c), 0);
+  ReadReport report;
+  const PointData d = readCloud(path, NanPolicy::error, &report);
+  ASSERT_EQ(d.size(), 10u);
+  EXPECT_TRUE(d.has_normals);
+  EXPECT_EQ((*d.cloud)[3].x, 3.0f);
+  EXPECT_EQ((*d.cloud)[3].normal_x, 1.0f);
+  EXPECT_EQ(report.extra_fields, "rgb");
+  std::uint32_t rgb;
+  std::memcpy(&rgb, d.extra.data.data() + 3 * d.extra.point_step, 4);
+  EXPECT_EQ((rgb >> 16) & 0xff, 30u);
+}
+
+std::string readError(const std::string& path, NanPolicy policy = NanPolicy::error) {
+  try {
+    readCloud(path, policy);
+  } catch (const RunError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+const char* kAsciiHeader =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float "
+    "z\nend_header\n";
+
+TEST(CloudIo, NanPointsAreAnErrorOrSkippedWithACount) {
+  const std::string path =
+      testing::scratchFile("nan.ply", std::string(kAsciiHeader) + "0 0 0\nnan 1 1\n2 2 2\n");
+  EXPECT_THAT(
+      readError(path),
+      HasSubstr(
+          "point 1 has a non-finite coordinate (NaN, inf or not a number); set input.nan: skip"));
+  ReadReport r;
+  const PointData d = readCloud(path, NanPolicy::skip, &r);
+  EXPECT_EQ(d.size(), 2u);
+  EXPECT_EQ(r.dropped, 1u);
+  EXPECT_EQ((*d.cloud)[1].x, 2.0f);
+  const std::string all =
+      testing::scratchFile("allnan.ply", std::string(kAsciiHeader) + "nan 0 0\n0 nan 0\n0 0 inf\n");
+  EXPECT_THAT(readError(all, NanPolicy::skip), HasSubstr("none of its 3 points has finite values"));
+}
+
+TEST(CloudIo, BadFilesGiveOneClearError) {
+  EXPECT_THAT(readError("/nonexistent/cloud.ply"),
+              HasSubstr("input '/nonexistent/cloud.ply': no such file"));
+  EXPECT_THAT(readError(testing::kScratchDir), HasSubstr("is a directory"));
+  EXPECT_THAT(readError(testing::scratchFile("empty.ply", "")), HasSubstr("the file is empty"));
+  EXPECT_THAT(readError(testing::scratchFile("cloud.xyz", "1 2 3\n")),
+              HasSubstr("unsupported file type '.xyz'"));
+  EXPECT_THAT(
+      readError(testing::scratchFile("zero.ply",
+                                     "ply\nformat ascii 1.0\nelement vertex 0\nproperty float "
+                                     "x\nproperty float y\nproperty float z\nend_header\n")),
+      HasSubstr("the cloud is empty (0 points)"));
+  EXPECT_THAT(readError(testing::scratchFile(
+                  "word.ply", std::string(kAsciiHeader) + "0 0 0\n1 one 1\n2 2 2\n")),
+              HasSubstr("point 1 has a non-finite coordinate (NaN, inf or not a number)"));
+  EXPECT_THAT(
+      readError(testing::scratchFile("short.ply", std::string(kAsciiHeader) + "0 0 0\n1 1 1\n")),
+      HasSubstr("not a readable PLY file"));
+  EXPECT_THAT(readError(testing::scratchFile(
+                  "noxyz.ply",
+                  "ply\nformat ascii 1.0\nelement vertex 1\nproperty float a\nend_header\n1\n")),
+              HasSubstr("no x, y, z fields"));
+
+  // A binary PLY cut short.
+  const PointData d = richCloud();
+  const std::string full = testing::scratchFile("trunc_src.ply", "");
+  writeCloudPly(d, full, true);
+  std::string bytes = testing::slurp(full);
+  bytes.resize(bytes.size() - 100);
+  EXPECT_THAT(readError(testing::scratchFile("truncated.ply", bytes)), HasSubstr("input '"));
+  EXPECT_THAT(readError(testing::scratchFile("truncated.ply", bytes)),
+              ::testing::AnyOf(HasSubstr("truncated"), HasSubstr("not a readable PLY")));
+}
+
+}  // namespace
+}  // namespace slipfit::pipeline

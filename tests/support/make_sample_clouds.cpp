@@ -22,13 +22,16 @@ int main(int argc, char** argv) {
   append(scene, sampleCylinder(10000, Eigen::Vector3f(0.8f, -0.6f, 0.0f), 0.4f, 1.2f, 13));
   addNoise(scene, 0.004f, 14);
   pcl::PointCloud<pcl::PointXYZ> xyz;
-  for (const auto& p : scene) xyz.push_back(pcl::PointXYZ(p.x, p.y, p.z));
+  for (const auto& p : scene)
+    xyz.push_back(pcl::PointXYZ(p.x, p.y, p.z));
   pcl::PLYWriter writer;  // binary, without PCL's camera element
-  if (writer.write(dir + "/demo_scene.ply", xyz, true, false) < 0) return 1;
+  if (writer.write(dir + "/demo_scene.ply", xyz, true, false) < 0)
+    return 1;
 
   // torus_normals: a closed torus R = 1, r = 0.35 with exact outward normals.
   Cloud torus = sampleTorus(6000, Eigen::Vector3f::Zero(), 1.0f, 0.35f, 21);
-  if (writer.write(dir + "/torus_normals.ply", torus, true, false) < 0) return 1;
+  if (writer.write(dir + "/torus_normals.ply", torus, true, false) < 0)
+    return 1;
   std::cout << "wrote " << dir << "/demo_scene.ply and torus_normals.ply\n";
   return 0;
 }

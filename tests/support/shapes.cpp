@@ -53,7 +53,8 @@ Cloud sampleCylinder(std::size_t n, const Eigen::Vector3f& base, float radius, f
   return c;
 }
 
-Cloud sampleTorus(std::size_t n, const Eigen::Vector3f& center, float R, float r, std::uint64_t seed) {
+Cloud sampleTorus(std::size_t n, const Eigen::Vector3f& center, float R, float r,
+                  std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> ang(0.0, 2.0 * kPi), acc(0.0, 1.0);
   Cloud c;
@@ -61,7 +62,8 @@ Cloud sampleTorus(std::size_t n, const Eigen::Vector3f& center, float R, float r
   while (c.size() < n) {
     const double alpha = ang(rng), beta = ang(rng);
     // Rejection on the area element r(R + r cos α) keeps the sampling area-uniform.
-    if (acc(rng) * (R + r) > R + r * std::cos(alpha)) continue;
+    if (acc(rng) * (R + r) > R + r * std::cos(alpha))
+      continue;
     const Eigen::Vector3d nrm(std::cos(alpha) * std::cos(beta), std::cos(alpha) * std::sin(beta),
                               std::sin(alpha));
     const Eigen::Vector3d p((R + r * std::cos(alpha)) * std::cos(beta),
@@ -72,7 +74,8 @@ Cloud sampleTorus(std::size_t n, const Eigen::Vector3f& center, float R, float r
   return c;
 }
 
-Cloud samplePlane(std::size_t n, float x0, float x1, float y0, float y1, float z, std::uint64_t seed) {
+Cloud samplePlane(std::size_t n, float x0, float x1, float y0, float y1, float z,
+                  std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> ux(x0, x1), uy(y0, y1);
   Cloud c;
@@ -100,11 +103,14 @@ void append(Cloud& a, const Cloud& b) {
   finish(a);
 }
 
-double maxAngleDeg(const Eigen::Matrix3Xf& normals, const Eigen::Matrix3Xf& reference, bool unsigned_) {
+double maxAngleDeg(const Eigen::Matrix3Xf& normals, const Eigen::Matrix3Xf& reference,
+                   bool unsigned_) {
   double worst = 0.0;
   for (Eigen::Index i = 0; i < normals.cols(); ++i) {
-    double c = normals.col(i).cast<double>().normalized().dot(reference.col(i).cast<double>().normalized());
-    if (unsigned_) c = std::abs(c);
+    double c = normals.col(i).cast<double>().normalized().dot(
+        reference.col(i).cast<double>().normalized());
+    if (unsigned_)
+      c = std::abs(c);
     worst = std::max(worst, std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi);
   }
   return worst;

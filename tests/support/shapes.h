@@ -21,10 +21,12 @@ Cloud sampleCylinder(std::size_t n, const Eigen::Vector3f& base, float radius, f
                      std::uint64_t seed);
 
 /// Closed torus about the z axis (centre-circle radius R, tube radius r), area-uniform.
-Cloud sampleTorus(std::size_t n, const Eigen::Vector3f& center, float R, float r, std::uint64_t seed);
+Cloud sampleTorus(std::size_t n, const Eigen::Vector3f& center, float R, float r,
+                  std::uint64_t seed);
 
 /// Rectangle [x0, x1] × [y0, y1] at height z, normal +z, uniform.
-Cloud samplePlane(std::size_t n, float x0, float x1, float y0, float y1, float z, std::uint64_t seed);
+Cloud samplePlane(std::size_t n, float x0, float x1, float y0, float y1, float z,
+                  std::uint64_t seed);
 
 /// Adds isotropic Gaussian noise of standard deviation \a sigma to the coordinates.
 void addNoise(Cloud& cloud, float sigma, std::uint64_t seed);
@@ -34,6 +36,7 @@ void append(Cloud& a, const Cloud& b);
 
 /// Largest angle in degrees between a normal and the corresponding reference, ignoring sign when
 /// \a unsigned_ is true.
-double maxAngleDeg(const Eigen::Matrix3Xf& normals, const Eigen::Matrix3Xf& reference, bool unsigned_);
+double maxAngleDeg(const Eigen::Matrix3Xf& normals, const Eigen::Matrix3Xf& reference,
+                   bool unsigned_);
 
 }  // namespace slipfit::testing

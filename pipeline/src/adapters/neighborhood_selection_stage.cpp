@@ -19,14 +19,22 @@ class NeighborhoodSelectionStage : public Stage {
     o.add("k", p_.k, "Neighbors per point (knn), or the cap (hybrid); includes the point itself.")
         .unit("points")
         .range(3, 10000);
-    o.add("radius", p_.radius, "Search radius (radius and hybrid modes).").unit("cloud units").above(0);
+    o.add("radius", p_.radius, "Search radius (radius and hybrid modes).")
+        .unit("cloud units")
+        .above(0);
     o.add("max_neighbors", p_.max_neighbors,
           "Radius mode: keep at most this many of the nearest (unset: all).")
         .unit("points")
         .range(3, 1e7);
-    o.add("k_min", p_.k_min, "Adaptive mode: smallest candidate size.").unit("points").range(3, 10000);
-    o.add("k_max", p_.k_max, "Adaptive mode: largest candidate size.").unit("points").range(3, 10000);
-    o.add("k_step", p_.k_step, "Adaptive mode: step between candidate sizes.").unit("points").range(1, 1000);
+    o.add("k_min", p_.k_min, "Adaptive mode: smallest candidate size.")
+        .unit("points")
+        .range(3, 10000);
+    o.add("k_max", p_.k_max, "Adaptive mode: largest candidate size.")
+        .unit("points")
+        .range(3, 10000);
+    o.add("k_step", p_.k_step, "Adaptive mode: step between candidate sizes.")
+        .unit("points")
+        .range(1, 1000);
     o.add("write_fields", write_fields_,
           "Add the per-point fields 'neighbors' (list size) and 'scale' (neighborhood radius) to "
           "the output cloud.");

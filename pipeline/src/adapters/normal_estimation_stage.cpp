@@ -48,7 +48,8 @@ class NormalEstimationStage : public Stage {
 
   DataFlow flow() const override {
     // Reference orientation reads the input's normals; keep_input may use them if present.
-    return {p_.orientation == NormalOrientation::reference ? (kPoints | kNormals) : kPoints, kNormals};
+    return {p_.orientation == NormalOrientation::reference ? (kPoints | kNormals) : kPoints,
+            kNormals};
   }
 
   void run(PointData& data, RunContext& context) override {
@@ -62,7 +63,8 @@ class NormalEstimationStage : public Stage {
     estimation.setParameters(p);
     estimation.setInputCloud(data.cloud);
     const bool shared = use_shared_ && data.neighborhoods;
-    if (shared) estimation.setNeighborhoods(data.neighborhoods);
+    if (shared)
+      estimation.setNeighborhoods(data.neighborhoods);
     if (p.orientation == NormalOrientation::reference) {
       auto reference = std::make_shared<Eigen::Matrix3Xf>(normals(std::as_const(*data.cloud)));
       estimation.setReferenceNormals(std::move(reference));
@@ -83,22 +85,27 @@ class NormalEstimationStage : public Stage {
     }
     data.has_normals = true;
     data.has_curvature = true;
-    if (st.failed > 0) data.keepOnly(keep);
-    if (data.size() == 0) throw RunError("no point has a normal");
+    if (st.failed > 0)
+      data.keepOnly(keep);
+    if (data.size() == 0)
+      throw RunError("no point has a normal");
 
     context.report << "normals: " << st.estimated << " estimated from "
-                   << (shared ? "the shared neighborhoods"
-                              : p.radius ? "a radius search" : "a kNN search")
+                   << (shared     ? "the shared neighborhoods"
+                       : p.radius ? "a radius search"
+                                  : "a kNN search")
                    << ", " << st.failed << " failed" << (st.failed ? " (dropped)" : "")
                    << ", orientation " << orientationName() << " (" << st.flipped << " flipped";
-    if (p.orientation == NormalOrientation::consistent) context.report << ", " << st.components << " components";
+    if (p.orientation == NormalOrientation::consistent)
+      context.report << ", " << st.components << " components";
     context.report << ")\n";
   }
 
  private:
   std::string_view orientationName() const {
     for (const auto& [value, name] : kNormalOrientationNames)
-      if (value == p_.orientation) return name;
+      if (value == p_.orientation)
+        return name;
     return "?";
   }
 

@@ -34,8 +34,9 @@ ConstCoords3Map coordinates(const pcl::PointCloud<PointT>& cloud) {
 template <typename PointT>
 Coords3Map normals(pcl::PointCloud<PointT>& cloud) {
   constexpr auto offset = pcl::traits::offset<PointT, pcl::fields::normal_x>::value;
-  float* base = cloud.empty() ? nullptr
-                              : reinterpret_cast<float*>(reinterpret_cast<char*>(cloud.data()) + offset);
+  float* base = cloud.empty()
+                    ? nullptr
+                    : reinterpret_cast<float*>(reinterpret_cast<char*>(cloud.data()) + offset);
   return {base, 3, static_cast<Eigen::Index>(cloud.size()),
           Eigen::OuterStride<>(detail::floatStride<PointT>())};
 }
@@ -45,8 +46,9 @@ template <typename PointT>
 ConstCoords3Map normals(const pcl::PointCloud<PointT>& cloud) {
   constexpr auto offset = pcl::traits::offset<PointT, pcl::fields::normal_x>::value;
   const float* base =
-      cloud.empty() ? nullptr
-                    : reinterpret_cast<const float*>(reinterpret_cast<const char*>(cloud.data()) + offset);
+      cloud.empty()
+          ? nullptr
+          : reinterpret_cast<const float*>(reinterpret_cast<const char*>(cloud.data()) + offset);
   return {base, 3, static_cast<Eigen::Index>(cloud.size()),
           Eigen::OuterStride<>(detail::floatStride<PointT>())};
 }

@@ -39,7 +39,8 @@ struct NeighborhoodParameters {
   std::optional<double> radius;
   /// In radius mode, keep at most this many of the nearest neighbors (unset: all). Range [3, ∞).
   std::optional<int> max_neighbors;
-  /// Adaptive mode: the candidate sizes k_min, k_min + k_step, ..., k_max. 3 ≤ k_min ≤ k_max ≤ 10000.
+  /// Adaptive mode: the candidate sizes k_min, k_min + k_step, ..., k_max. 3 ≤ k_min ≤ k_max ≤
+  /// 10000.
   int k_min = 8;
   int k_max = 48;
   int k_step = 2;
@@ -52,11 +53,11 @@ struct NeighborhoodParameters {
 
 /// Counters of one NeighborhoodSelection::compute() call, for tests and reports.
 struct NeighborhoodStatistics {
-  std::size_t queries = 0;        ///< neighbor searches made (one per finite queried point)
-  std::size_t tree_builds = 0;    ///< kd-tree builds made (0 when the given tree was already built)
-  std::size_t min_size = 0;       ///< smallest non-empty neighborhood
-  std::size_t max_size = 0;       ///< largest neighborhood
-  double mean_size = 0.0;         ///< mean size over queried finite points
+  std::size_t queries = 0;      ///< neighbor searches made (one per finite queried point)
+  std::size_t tree_builds = 0;  ///< kd-tree builds made (0 when the given tree was already built)
+  std::size_t min_size = 0;     ///< smallest non-empty neighborhood
+  std::size_t max_size = 0;     ///< largest neighborhood
+  double mean_size = 0.0;       ///< mean size over queried finite points
   std::size_t skipped_nonfinite = 0;  ///< queried points with NaN/inf coordinates (empty lists)
 };
 

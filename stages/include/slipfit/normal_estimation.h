@@ -33,10 +33,10 @@ struct NormalParameters {
 };
 
 struct NormalStatistics {
-  std::size_t estimated = 0;       ///< normals computed
-  std::size_t failed = 0;          ///< points left NaN (non-finite, or fewer than 3 neighbors)
-  std::size_t flipped = 0;         ///< normals flipped by the orientation step
-  std::size_t components = 0;      ///< graph components seeded (consistent orientation only)
+  std::size_t estimated = 0;          ///< normals computed
+  std::size_t failed = 0;             ///< points left NaN (non-finite, or fewer than 3 neighbors)
+  std::size_t flipped = 0;            ///< normals flipped by the orientation step
+  std::size_t components = 0;         ///< graph components seeded (consistent orientation only)
   bool reused_neighborhoods = false;  ///< true when shared neighborhoods were used (no search)
 };
 
@@ -60,7 +60,8 @@ class NormalEstimation : public pcl::PCLBase<PointInT> {
   }
   const NormalParameters& getParameters() const { return parameters_; }
 
-  /// Neighborhoods of the input cloud's points (one list per cloud point), used instead of k/radius.
+  /// Neighborhoods of the input cloud's points (one list per cloud point), used instead of
+  /// k/radius.
   void setNeighborhoods(std::shared_ptr<const Neighborhoods> neighborhoods) {
     neighborhoods_ = std::move(neighborhoods);
   }

@@ -17,9 +17,9 @@ namespace slipfit {
 
 /// How the sign of estimated normals is chosen.
 enum class NormalOrientation {
-  viewpoint,   ///< each normal faces the viewpoint: (v − p)·n ≥ 0
-  reference,   ///< each normal agrees in sign with a reference normal (e.g. the input's own)
-  consistent   ///< neighbors agree, propagated over a minimum spanning tree of the kNN graph
+  viewpoint,  ///< each normal faces the viewpoint: (v − p)·n ≥ 0
+  reference,  ///< each normal agrees in sign with a reference normal (e.g. the input's own)
+  consistent  ///< neighbors agree, propagated over a minimum spanning tree of the kNN graph
 };
 
 constexpr std::array<std::pair<NormalOrientation, std::string_view>, 3> kNormalOrientationNames{{
@@ -46,14 +46,16 @@ struct ConsistentOrientationReport {
 ///
 /// The graph is the symmetrised neighbor graph; edge (i, j) costs 1 − |nᵢ·nⱼ|. In each connected
 /// component a seed is oriented, then Prim's minimum spanning tree propagates the sign along the
-/// smoothest edges first, flipping nⱼ when nᵢ·nⱼ < 0. The seed is the point whose normal is most
-/// nearly radial from the component's centroid, |(p − c)·n| largest, oriented away from the
-/// centroid — on a closed surface that is outward — or towards \a viewpoint when one is given,
-/// which is the right choice for open scans. Deterministic.
+/// smoothest edges first, flipping nⱼ when nᵢ·nⱼ < 0. Without \a viewpoint the seed is the point
+/// whose normal is most nearly radial from the component's centroid, |(p − c)·n| largest, oriented
+/// away from the centroid: outward on a closed surface. With \a viewpoint the seed is the point
+/// whose normal is most nearly along its line of sight, nearer points preferred, oriented towards
+/// the viewer: right for open scans, and outward on closed surfaces seen from outside.
+/// Deterministic.
 /// \param points 3×N coordinates; \param normals 3×N normals, reoriented in place;
 /// \param graph neighbor lists of the same N points.
-ConsistentOrientationReport orientConsistently(const ConstCoords3Map& points, Coords3Map normals,
-                                               const Neighborhoods& graph,
-                                               const std::optional<Eigen::Vector3f>& viewpoint = {});
+ConsistentOrientationReport orientConsistently(
+    const ConstCoords3Map& points, Coords3Map normals, const Neighborhoods& graph,
+    const std::optional<Eigen::Vector3f>& viewpoint = {});
 
 }  // namespace slipfit

@@ -38,7 +38,8 @@ class PrecomputedSearch : public pcl::search::Search<PointT> {
   void setInputCloud(const PointCloudConstPtr& cloud,
                      const IndicesConstPtr& indices = IndicesConstPtr()) override {
     if (cloud && cloud->size() != neighborhoods_->size())
-      throw InvalidParameterError("PrecomputedSearch: the cloud has " + std::to_string(cloud->size()) +
+      throw InvalidParameterError("PrecomputedSearch: the cloud has " +
+                                  std::to_string(cloud->size()) +
                                   " points but the neighborhoods were computed for " +
                                   std::to_string(neighborhoods_->size()));
     this->input_ = cloud;
@@ -49,7 +50,8 @@ class PrecomputedSearch : public pcl::search::Search<PointT> {
                      std::vector<float>& k_sqr_distances) const override {
     checkCloud(cloud);
     const NeighborView v = (*neighborhoods_)[static_cast<std::size_t>(index)];
-    const std::size_t count = std::min<std::size_t>(v.size(), k > 0 ? static_cast<std::size_t>(k) : 0);
+    const std::size_t count =
+        std::min<std::size_t>(v.size(), k > 0 ? static_cast<std::size_t>(k) : 0);
     k_indices.assign(v.indices, v.indices + count);
     k_sqr_distances.assign(v.sqr_distances, v.sqr_distances + count);
     return static_cast<int>(count);
@@ -73,8 +75,10 @@ class PrecomputedSearch : public pcl::search::Search<PointT> {
     k_indices.clear();
     k_sqr_distances.clear();
     for (std::size_t j = 0; j < v.size(); ++j) {
-      if (v.sqr_distances[j] > r2) continue;
-      if (max_nn != 0 && k_indices.size() >= max_nn) break;
+      if (v.sqr_distances[j] > r2)
+        continue;
+      if (max_nn != 0 && k_indices.size() >= max_nn)
+        break;
       k_indices.push_back(v.indices[j]);
       k_sqr_distances.push_back(v.sqr_distances[j]);
     }

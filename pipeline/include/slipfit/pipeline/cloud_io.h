@@ -18,10 +18,10 @@ constexpr std::array<std::pair<NanPolicy, std::string_view>, 2> kNanPolicyNames{
 }};
 
 struct ReadReport {
-  std::size_t points_read = 0;    ///< points in the file
-  std::size_t dropped = 0;        ///< points dropped for non-finite coordinates or normals
-  bool normals = false;           ///< the file has (finite) normals
-  std::string extra_fields;       ///< the names of the fields carried through, comma separated
+  std::size_t points_read = 0;  ///< points in the file
+  std::size_t dropped = 0;      ///< points dropped for non-finite coordinates or normals
+  bool normals = false;         ///< the file has (finite) normals
+  std::string extra_fields;     ///< the names of the fields carried through, comma separated
 };
 
 /// Reads a .ply (ascii or binary) or .pcd file. Coordinates and normals of any numeric type

@@ -110,7 +110,8 @@ class OptionSet {
     std::string default_text;
     for (const auto& [value, text] : names) {
       choices.emplace_back(text);
-      if (value == field) default_text = std::string(text);
+      if (value == field)
+        default_text = std::string(text);
     }
     auto parser = [&field, names](const YAML::Node& node, const Option& option) {
       const std::string text = scalarText(node, option);

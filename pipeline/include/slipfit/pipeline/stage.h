@@ -23,8 +23,8 @@ struct DataFlow {
 /// Shared settings of one run.
 struct RunContext {
   Progress& progress;
-  std::ostream& report;   ///< one-line summaries (silent with --quiet)
-  int threads = 0;        ///< 0: all cores
+  std::ostream& report;  ///< one-line summaries (silent with --quiet)
+  int threads = 0;       ///< 0: all cores
   std::uint64_t seed = 0;
 };
 

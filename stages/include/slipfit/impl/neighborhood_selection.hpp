@@ -7,8 +7,8 @@
 #include <pcl/common/point_tests.h>
 #include <pcl/search/kdtree.h>
 
-#include <Eigen/Core>
 #include <omp.h>
+#include <Eigen/Core>
 
 #include <algorithm>
 #include <limits>
@@ -27,17 +27,25 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
   const auto& cloud = *input_;
   const std::size_t n = cloud.size();
   std::vector<char> queried(n, 0);
-  for (const auto i : *indices_) queried[static_cast<std::size_t>(i)] = 1;
+  for (const auto i : *indices_)
+    queried[static_cast<std::size_t>(i)] = 1;
 
   std::size_t finite = 0;
-  for (const auto& p : cloud.points) finite += pcl::isFinite(p) ? 1 : 0;
+  for (const auto& p : cloud.points)
+    finite += pcl::isFinite(p) ? 1 : 0;
+  if (finite < n && cloud.is_dense) {
+    this->deinitCompute();
+    throw DegenerateInputError(
+        "neighborhood selection: the cloud has non-finite points but claims is_dense = true");
+  }
   if (finite < 2) {
     this->deinitCompute();
     throw DegenerateInputError("neighborhood selection: fewer than two finite points in the cloud");
   }
 
   statistics_ = NeighborhoodStatistics{};
-  if (!search_) search_.reset(new pcl::search::KdTree<PointT>(true));
+  if (!search_)
+    search_.reset(new pcl::search::KdTree<PointT>(true));
   search_->setSortedResults(true);
   if (search_->getInputCloud() != input_) {
     search_->setInputCloud(input_);
@@ -49,7 +57,8 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
   const float r2 = par.radius ? static_cast<float>(*par.radius * *par.radius) : 0.0f;
 
   output.clear();
-  output.reserve(n, par.mode == NeighborhoodMode::radius ? n * 16 : n * static_cast<std::size_t>(k_query));
+  output.reserve(
+      n, par.mode == NeighborhoodMode::radius ? n * 16 : n * static_cast<std::size_t>(k_query));
 
   // Points are searched in parallel a chunk at a time and appended in cloud order, which keeps the
   // result independent of the thread count and the transient memory bounded.
@@ -66,14 +75,15 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
     {
       Eigen::Matrix3Xf local;
 #pragma omp for schedule(dynamic, 256)
-      for (std::ptrdiff_t ii = static_cast<std::ptrdiff_t>(begin); ii < static_cast<std::ptrdiff_t>(end);
-           ++ii) {
+      for (std::ptrdiff_t ii = static_cast<std::ptrdiff_t>(begin);
+           ii < static_cast<std::ptrdiff_t>(end); ++ii) {
         const auto i = static_cast<std::size_t>(ii);
         pcl::Indices& ind = chunk_indices[i - begin];
         std::vector<float>& d = chunk_dists[i - begin];
         ind.clear();
         d.clear();
-        if (!queried[i]) continue;
+        if (!queried[i])
+          continue;
         if (!pcl::isFinite(cloud[i])) {
           ++skipped;
           continue;
@@ -85,8 +95,9 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
             search_->nearestKSearch(cloud, index, par.k, ind, d);
             break;
           case NeighborhoodMode::radius:
-            search_->radiusSearch(cloud, index, *par.radius, ind, d,
-                                  par.max_neighbors ? static_cast<unsigned>(*par.max_neighbors) : 0u);
+            search_->radiusSearch(
+                cloud, index, *par.radius, ind, d,
+                par.max_neighbors ? static_cast<unsigned>(*par.max_neighbors) : 0u);
             break;
           case NeighborhoodMode::hybrid: {
             search_->nearestKSearch(cloud, index, par.k, ind, d);
@@ -98,7 +109,8 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
           case NeighborhoodMode::adaptive: {
             search_->nearestKSearch(cloud, index, par.k_max, ind, d);
             local.resize(3, static_cast<Eigen::Index>(ind.size()));
-            for (std::size_t j = 0; j < ind.size(); ++j) local.col(j) = cloud[ind[j]].getVector3fMap();
+            for (std::size_t j = 0; j < ind.size(); ++j)
+              local.col(j) = cloud[ind[j]].getVector3fMap();
             const int k = optimalNeighborhoodSize(local, par.k_min, par.k_max, par.k_step);
             ind.resize(k);
             d.resize(k);
@@ -117,7 +129,8 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
   std::size_t total = 0, lo = std::numeric_limits<std::size_t>::max(), hi = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t s = output[i].size();
-    if (s == 0) continue;
+    if (s == 0)
+      continue;
     total += s;
     lo = std::min(lo, s);
     hi = std::max(hi, s);

@@ -49,7 +49,8 @@ void NormalEstimation<PointInT, PointOutT>::compute(pcl::PointCloud<PointOutT>& 
     selection.setParameters(np);
     selection.setInputCloud(input_);
     selection.setIndices(indices_);
-    if (search_) selection.setSearchMethod(search_);
+    if (search_)
+      selection.setSearchMethod(search_);
     auto computed = std::make_shared<Neighborhoods>();
     selection.compute(*computed);
     hoods = computed;
@@ -63,7 +64,8 @@ void NormalEstimation<PointInT, PointOutT>::compute(pcl::PointCloud<PointOutT>& 
     ne.setKSearch(static_cast<int>(std::max<std::size_t>(hoods->maxSize(), 1)));
     statistics_.reused_neighborhoods = neighborhoods_ != nullptr;
   } else {
-    if (search_) ne.setSearchMethod(search_);
+    if (search_)
+      ne.setSearchMethod(search_);
     if (par.radius)
       ne.setRadiusSearch(*par.radius);
     else
@@ -81,18 +83,21 @@ void NormalEstimation<PointInT, PointOutT>::compute(pcl::PointCloud<PointOutT>& 
     Coords3Map out_normals = normals(output);
     if (par.orientation == NormalOrientation::reference) {
       Eigen::Matrix3Xf ref(3, static_cast<Eigen::Index>(indices_->size()));
-      for (std::size_t j = 0; j < indices_->size(); ++j) ref.col(j) = reference_->col((*indices_)[j]);
+      for (std::size_t j = 0; j < indices_->size(); ++j)
+        ref.col(j) = reference_->col((*indices_)[j]);
       statistics_.flipped = orientLikeReference(
           out_normals, ConstCoords3Map(ref.data(), 3, ref.cols(), Eigen::OuterStride<>(3)));
     } else if (par.orientation == NormalOrientation::consistent) {
       // The graph is indexed by cloud point: scatter the output's normals to cloud order.
-      Eigen::Matrix3Xf full =
-          Eigen::Matrix3Xf::Constant(3, static_cast<Eigen::Index>(n), std::numeric_limits<float>::quiet_NaN());
-      for (std::size_t j = 0; j < indices_->size(); ++j) full.col((*indices_)[j]) = out_normals.col(j);
+      Eigen::Matrix3Xf full = Eigen::Matrix3Xf::Constant(3, static_cast<Eigen::Index>(n),
+                                                         std::numeric_limits<float>::quiet_NaN());
+      for (std::size_t j = 0; j < indices_->size(); ++j)
+        full.col((*indices_)[j]) = out_normals.col(j);
       const auto report = orientConsistently(
           coordinates(*input_), Coords3Map(full.data(), 3, full.cols(), Eigen::OuterStride<>(3)),
           *hoods, par.viewpoint);
-      for (std::size_t j = 0; j < indices_->size(); ++j) out_normals.col(j) = full.col((*indices_)[j]);
+      for (std::size_t j = 0; j < indices_->size(); ++j)
+        out_normals.col(j) = full.col((*indices_)[j]);
       statistics_.flipped = report.flipped;
       statistics_.components = report.components;
     }

@@ -1,0 +1,133 @@
+// Normal estimation on a generated 1,000,000-point cloud, k = 16, 2 threads: slipfit's classes and
+// its pipeline stage against pcl::NormalEstimationOMP called directly, in the same run.
+//
+//   build/bench/bench_normals --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+//
+// bench/run_normals.sh runs each case in its own process to report peak memory as well.
+#include "shapes.h"
+
+#include "slipfit/neighborhood_selection.h"
+#include "slipfit/normal_estimation.h"
+#include "slipfit/pipeline/progress.h"
+#include "slipfit/pipeline/registry.h"
+
+#include <benchmark/benchmark.h>
+#include <pcl/features/normal_3d_omp.h>
+#include <pcl/search/kdtree.h>
+#include <yaml-cpp/yaml.h>
+
+#include <iostream>
+#include <sstream>
+
+namespace {
+
+using Cloud = pcl::PointCloud<pcl::PointNormal>;
+constexpr int kThreads = 2;
+constexpr int kK = 16;
+
+/// A scene of a million points: a ground plane, a sphere and a torus, 0.1% noise.
+const Cloud::ConstPtr& scene() {
+  static const Cloud::ConstPtr cloud = [] {
+    using namespace slipfit::testing;
+    auto c = std::make_shared<Cloud>(samplePlane(500000, -3, 3, -3, 3, 0, 1));
+    append(*c, sampleSphere(250000, Eigen::Vector3f(-1, 1, 1), 0.8f, 2));
+    append(*c, sampleTorus(250000, Eigen::Vector3f(1.2f, -1, 0.6f), 1.0f, 0.3f, 3));
+    addNoise(*c, 0.006f, 4);
+    for (auto& p : c->points)
+      p.getNormalVector3fMap().setConstant(std::numeric_limits<float>::quiet_NaN());
+    return c;
+  }();
+  return cloud;
+}
+
+void BM_PclNormalEstimationOMP(benchmark::State& state) {
+  for (auto _ : state) {
+    pcl::NormalEstimationOMP<pcl::PointNormal, pcl::Normal> ne(kThreads);
+    ne.setInputCloud(scene());
+    ne.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointNormal>>(false));
+    ne.setKSearch(kK);
+    pcl::PointCloud<pcl::Normal> out;
+    ne.compute(out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(scene()->size()));
+}
+
+void BM_SlipfitNormalEstimation(benchmark::State& state) {
+  slipfit::NormalParameters p;
+  p.k = kK;
+  p.threads = kThreads;
+  for (auto _ : state) {
+    slipfit::NormalEstimation<pcl::PointNormal, pcl::Normal> ne;
+    ne.setParameters(p);
+    ne.setInputCloud(scene());
+    pcl::PointCloud<pcl::Normal> out;
+    ne.compute(out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(scene()->size()));
+}
+
+/// The pipeline's stage object (adapter included), own kNN search, as `slipfit run` executes it.
+void BM_SlipfitNormalStage(benchmark::State& state) {
+  using namespace slipfit::pipeline;
+  const StageInfo* info = findStage("normal_estimation");
+  std::ostringstream sink;
+  Progress progress(false);
+  RunContext context{progress, sink, kThreads, 1};
+  for (auto _ : state) {
+    state.PauseTiming();
+    PointData data;
+    data.cloud = std::make_shared<Cloud>(*scene());
+    auto stage = info->make();
+    OptionSet options;
+    stage->declare(options);
+    options.find("k")->parse(YAML::Load(std::to_string(kK)));
+    options.find("orientation")->parse(YAML::Load("viewpoint"));
+    stage->prepare();
+    state.ResumeTiming();
+    stage->run(data, context);
+    benchmark::DoNotOptimize(data.cloud->data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(scene()->size()));
+}
+
+/// neighborhood_selection + normal_estimation sharing one search (the demo pipeline's path).
+void BM_SlipfitNeighborhoodsThenNormals(benchmark::State& state) {
+  slipfit::NeighborhoodParameters np;
+  np.k = kK;
+  np.threads = kThreads;
+  slipfit::NormalParameters p;
+  p.threads = kThreads;
+  p.orientation = state.range(0) ? slipfit::NormalOrientation::consistent
+                                 : slipfit::NormalOrientation::viewpoint;
+  for (auto _ : state) {
+    slipfit::NeighborhoodSelection<pcl::PointNormal> s;
+    s.setParameters(np);
+    s.setInputCloud(scene());
+    auto hoods = std::make_shared<slipfit::Neighborhoods>();
+    s.compute(*hoods);
+    slipfit::NormalEstimation<pcl::PointNormal, pcl::Normal> ne;
+    ne.setParameters(p);
+    ne.setInputCloud(scene());
+    ne.setNeighborhoods(hoods);
+    pcl::PointCloud<pcl::Normal> out;
+    ne.compute(out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(scene()->size()));
+  state.SetLabel(state.range(0) ? "orientation=consistent" : "orientation=viewpoint");
+}
+
+BENCHMARK(BM_PclNormalEstimationOMP)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SlipfitNormalEstimation)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SlipfitNormalStage)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SlipfitNeighborhoodsThenNormals)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
