@@ -43,9 +43,11 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
   if (!flow.empty())
     throw RunError(config.input.path + ": " + flow);
 
-  RunContext context{progress, report, config.settings.threads, config.settings.seed};
   for (std::size_t i = 0; i < config.stages.size(); ++i) {
     auto& s = config.stages[i];
+    // A stage's report lines wait until its progress line is finished, so the two never mix.
+    std::ostringstream stage_report;
+    RunContext context{progress, stage_report, config.settings.threads, config.settings.seed};
     progress.begin(i + 2, steps, s.tag + " (" + s.type + ")");
     try {
       s.stage->run(data, context);
@@ -57,6 +59,7 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
       throw RunError("stage '" + s.tag + "' (" + s.type + "): out of memory");
     }
     progress.end();
+    report << stage_report.str();
   }
 
   progress.begin(steps, steps, "write " + config.output.dir);

@@ -95,10 +95,12 @@ class NormalEstimationStage : public Stage {
                        : p.radius ? "a radius search"
                                   : "a kNN search")
                    << ", " << st.failed << " failed" << (st.failed ? " (dropped)" : "")
-                   << ", orientation " << orientationName() << " (" << st.flipped << " flipped";
+                   << ", orientation " << orientationName();
+    if (p.orientation == NormalOrientation::reference)
+      context.report << " (" << st.flipped << " flipped)";
     if (p.orientation == NormalOrientation::consistent)
-      context.report << ", " << st.components << " components";
-    context.report << ")\n";
+      context.report << " (" << st.flipped << " flipped, " << st.components << " components)";
+    context.report << "\n";
   }
 
  private:
