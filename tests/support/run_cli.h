@@ -5,6 +5,7 @@
 #include "paths.h"
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -47,17 +48,23 @@ inline CliResult runSlipfit(const std::string& args) {
   return r;
 }
 
+/// This process's scratch directory: ctest runs tests in parallel, each in its own process.
+inline std::string processScratch() {
+  const std::string dir = std::string(kScratchDir) + "/p" + std::to_string(::getpid());
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 /// Writes \a text to a scratch file \a name and returns its absolute path.
 inline std::string scratchFile(const std::string& name, const std::string& text) {
-  std::filesystem::create_directories(kScratchDir);
-  const std::string path = std::string(kScratchDir) + "/" + name;
+  const std::string path = processScratch() + "/" + name;
   std::ofstream(path, std::ios::binary) << text;
   return path;
 }
 
 /// A fresh, empty scratch directory.
 inline std::string scratchDir(const std::string& name) {
-  const std::string path = std::string(kScratchDir) + "/" + name;
+  const std::string path = processScratch() + "/" + name;
   std::filesystem::remove_all(path);
   return path;
 }
