@@ -70,9 +70,9 @@ class Loader {
       config.settings.declare(options);
       applyMap(root, options, "", "top level", /*skip=*/{"input", "output", "stages"});
     }
-    if (!root["input"])
-      fail(path_ + ": missing 'input' section (input: {path: cloud.ply})");
-    parseSection(root["input"], "input", [&](OptionSet& o) { config.input.declare(o); });
+    // Without an input section the first stage must make the points (e.g. torus_sampling).
+    if (root["input"])
+      parseSection(root["input"], "input", [&](OptionSet& o) { config.input.declare(o); });
     if (root["output"])
       parseSection(root["output"], "output", [&](OptionSet& o) { config.output.declare(o); });
     const YAML::Node stages = root["stages"];
@@ -88,7 +88,7 @@ class Loader {
         fail(s.where + "stage tag '" + s.tag + "' is used twice; give each stage its own tag");
       config.stages.push_back(std::move(s));
     }
-    const std::string flow = checkDataFlow(config, kPoints | kNormals);
+    const std::string flow = checkDataFlow(config, root["input"] ? kPoints | kNormals : 0u);
     if (!flow.empty())
       fail(path_ + ": " + flow);
     return config;
@@ -255,8 +255,9 @@ std::string checkDataFlow(const PipelineConfig& config, unsigned input_bits) {
     const DataFlow flow = s.stage->flow();
     const unsigned missing = flow.consumes & ~available;
     if (missing) {
-      return "stage '" + s.tag + "' (" + s.type + ") needs " + dataBitsText(missing) +
-             ": the input has none and no earlier stage produces them";
+      return "stage '" + s.tag + "' (" + s.type + ") needs " + dataBitsText(missing) + ": " +
+             (input_bits ? "the input has none" : "there is no input section") +
+             " and no earlier stage produces them";
     }
     available |= flow.produces;
   }

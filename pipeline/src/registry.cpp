@@ -7,6 +7,7 @@ namespace slipfit::pipeline {
 const std::vector<StageInfo>& stageRegistry() {
   // The one list of stages, in the order a pipeline usually runs them.
   static const std::vector<StageInfo> registry = {
+      adapters::torusSamplingInfo(),
       adapters::neighborhoodSelectionInfo(),
       adapters::normalEstimationInfo(),
   };

@@ -27,27 +27,34 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
   Progress progress(!options.quiet);
   const std::size_t steps = config.stages.size() + 2;
 
-  progress.begin(1, steps, "read " + config.input.path);
-  ReadReport read;
-  PointData data = readCloud(config.input.path, config.input.nan, &read);
-  progress.end();
-  report << "input: " << config.input.path << ": " << data.size() << " points";
-  if (read.dropped)
-    report << " (" << read.dropped << " non-finite dropped)";
-  report << ", normals: " << (read.normals ? "yes" : "no");
-  if (!read.extra_fields.empty())
-    report << ", fields: " << read.extra_fields;
-  report << "\n";
-
-  const std::string flow = checkDataFlow(config, data.available());
+  PointData data;
+  unsigned input_bits = 0;
+  if (!config.input.path.empty()) {
+    progress.begin(1, steps, "read " + config.input.path);
+    ReadReport read;
+    data = readCloud(config.input.path, config.input.nan, &read);
+    progress.end();
+    report << "input: " << config.input.path << ": " << data.size() << " points";
+    if (read.dropped)
+      report << " (" << read.dropped << " non-finite dropped)";
+    report << ", normals: " << (read.normals ? "yes" : "no");
+    if (!read.extra_fields.empty())
+      report << ", fields: " << read.extra_fields;
+    report << "\n";
+    input_bits = data.available();
+  }
+  const std::string flow = checkDataFlow(config, input_bits);
   if (!flow.empty())
-    throw RunError(config.input.path + ": " + flow);
+    throw RunError(config.path + ": " + flow);
 
+  // Stages may add files (meshes); everything is renamed into place only at the end.
+  OutputFiles outputs(config.output.dir);
   for (std::size_t i = 0; i < config.stages.size(); ++i) {
     auto& s = config.stages[i];
     // A stage's report lines wait until its progress line is finished, so the two never mix.
     std::ostringstream stage_report;
-    RunContext context{progress, stage_report, config.settings.threads, config.settings.seed};
+    RunContext context{progress, stage_report, config.settings.threads, config.settings.seed,
+                       &outputs};
     progress.begin(i + 2, steps, s.tag + " (" + s.type + ")");
     try {
       s.stage->run(data, context);
@@ -63,7 +70,6 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
   }
 
   progress.begin(steps, steps, "write " + config.output.dir);
-  OutputFiles outputs(config.output.dir);
   outputs.add(config.output.cloud, [&](const std::string& path) {
     writeCloudPly(data, path, config.output.format == PlyEncoding::binary);
   });

@@ -7,5 +7,6 @@ namespace slipfit::pipeline::adapters {
 
 StageInfo neighborhoodSelectionInfo();
 StageInfo normalEstimationInfo();
+StageInfo torusSamplingInfo();
 
 }  // namespace slipfit::pipeline::adapters

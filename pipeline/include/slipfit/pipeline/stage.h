@@ -12,6 +12,8 @@
 
 namespace slipfit::pipeline {
 
+class OutputFiles;
+class OutputFiles;
 class Progress;
 
 /// What a configured stage consumes and produces (DataBits).
@@ -26,6 +28,9 @@ struct RunContext {
   std::ostream& report;  ///< one-line summaries (silent with --quiet)
   int threads = 0;       ///< 0: all cores
   std::uint64_t seed = 0;
+  /// Extra output files (meshes, reports): written under temporary names, renamed only when the
+  /// whole run succeeds.
+  OutputFiles* outputs = nullptr;
 };
 
 /// A pipeline stage adapts one algorithm of slipfit::stages to PointData.

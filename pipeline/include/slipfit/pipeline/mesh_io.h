@@ -1,0 +1,14 @@
+#pragma once
+/// \file Writing OpenMesh meshes (OFF, PLY) through OpenMesh's own writers.
+
+#include "slipfit/torus_mesh.h"
+
+#include <string>
+
+namespace slipfit::pipeline {
+
+/// Writes \a mesh to \a path; the format comes from the extension (.off, .ply, .obj, .stl).
+/// With \a vertex_normals the normals are written too (OFF becomes NOFF). Throws RunError.
+void writeMesh(const SurfaceMesh& mesh, const std::string& path, bool vertex_normals, bool binary);
+
+}  // namespace slipfit::pipeline

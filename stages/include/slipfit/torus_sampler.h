@@ -1,0 +1,70 @@
+#pragma once
+/// \file Seeded point sampling of a posed torus with analytic normals, noise, outliers and partial
+/// coverage: the test-cloud source for the later stages.
+
+#include "slipfit/torus.h"
+#include "slipfit/torus_mesh.h"
+
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <Eigen/Geometry>
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+namespace slipfit {
+
+enum class TorusSampling {
+  area,      ///< uniform by area: density ∝ the area element r (R + r cos α)
+  angle,     ///< uniform in (α, β)
+  parameter  ///< uniform in the four quarter patches' (u, v)
+};
+constexpr std::array<std::pair<TorusSampling, std::string_view>, 3> kTorusSamplingNames{{
+    {TorusSampling::area, "area"},
+    {TorusSampling::angle, "angle"},
+    {TorusSampling::parameter, "parameter"},
+}};
+
+struct TorusSamplingParameters {
+  TorusShape shape;
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< world position of the torus centre
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();   ///< world direction of the symmetry axis
+  std::size_t points = 10000;  ///< surface samples (outliers come on top), >= 1
+  TorusSampling sampling = TorusSampling::area;
+  double alpha_min = 0.0;  ///< coverage around the tube, radians, 0 ≤ min < max ≤ 2π
+  double alpha_max = 2.0 * 3.14159265358979323846;
+  double beta_min = 0.0;  ///< coverage around the axis, radians
+  double beta_max = 2.0 * 3.14159265358979323846;
+  double noise = 0.0;             ///< σ of isotropic Gaussian position noise, world units, >= 0
+  double normal_noise = 0.0;      ///< σ of normal perturbation, radians, >= 0
+  double outlier_fraction = 0.0;  ///< outliers per surface sample, in [0, 1]
+  std::uint64_t seed = 1;
+
+  /// Throws InvalidParameterError naming the field.
+  void validate() const;
+  /// The rigid motion from the torus frame (axis z through the origin) to the world.
+  Eigen::Isometry3d pose() const;
+};
+
+/// Samples a torus, PCL style: setParameters(), then sample(). Points carry unit normals
+/// (outward for surface samples, random for outliers). The same parameters give the same cloud.
+class TorusSampler {
+ public:
+  void setParameters(const TorusSamplingParameters& parameters) {
+    parameters.validate();
+    parameters_ = parameters;
+  }
+  const TorusSamplingParameters& getParameters() const { return parameters_; }
+
+  /// Fills \a cloud; \a outlier (optional) gets 1 for outliers, 0 for surface samples.
+  void sample(pcl::PointCloud<pcl::PointNormal>& cloud,
+              std::vector<std::int32_t>* outlier = nullptr) const;
+
+ private:
+  TorusSamplingParameters parameters_;
+};
+
+}  // namespace slipfit
