@@ -56,6 +56,21 @@ Eigen::Isometry3d TorusSamplingParameters::pose() const {
 
 void TorusSampler::sample(pcl::PointCloud<pcl::PointNormal>& cloud,
                           std::vector<std::int32_t>* outlier) const {
+  Eigen::Matrix3Xd points, normals;
+  sample(points, normals, outlier);
+  cloud.resize(static_cast<std::size_t>(points.cols()));
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    cloud[i].getVector3fMap() = points.col(i).cast<float>();
+    cloud[i].getNormalVector3fMap() = normals.col(i).cast<float>();
+    cloud[i].curvature = std::numeric_limits<float>::quiet_NaN();
+  }
+  cloud.width = static_cast<std::uint32_t>(cloud.size());
+  cloud.height = 1;
+  cloud.is_dense = true;
+}
+
+void TorusSampler::sample(Eigen::Matrix3Xd& points, Eigen::Matrix3Xd& normals,
+                          std::vector<std::int32_t>* outlier) const {
   const TorusSamplingParameters& p = parameters_;
   p.validate();
   const TorusShape& t = p.shape;
@@ -64,18 +79,20 @@ void TorusSampler::sample(pcl::PointCloud<pcl::PointNormal>& cloud,
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> gauss(0.0, 1.0);
 
-  const std::size_t outliers =
+  const auto outliers =
       static_cast<std::size_t>(std::llround(p.outlier_fraction * static_cast<double>(p.points)));
-  cloud.clear();
-  cloud.reserve(p.points + outliers);
+  const std::size_t total = p.points + outliers;
+  points.resize(3, static_cast<Eigen::Index>(total));
+  normals.resize(3, static_cast<Eigen::Index>(total));
   if (outlier)
-    outlier->assign(p.points + outliers, 0);
+    outlier->assign(total, 0);
 
   // Rejection keeps every mode exact under partial coverage; give up when the coverage is so
   // small that almost nothing is accepted.
   const std::size_t max_attempts = 1000 * p.points + 100000;
   std::size_t attempts = 0;
-  while (cloud.size() < p.points) {
+  Eigen::Index count = 0;
+  while (static_cast<std::size_t>(count) < p.points) {
     if (++attempts > max_attempts)
       throw DegenerateInputError("torus sampling: the coverage ranges accept almost no sample");
     double a = 0.0, b = 0.0;
@@ -105,11 +122,9 @@ void TorusSampler::sample(pcl::PointCloud<pcl::PointNormal>& cloud,
       x += p.noise * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
     if (p.normal_noise > 0.0)
       n = (n + p.normal_noise * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng))).normalized();
-    pcl::PointNormal q;
-    q.getVector3fMap() = x.cast<float>();
-    q.getNormalVector3fMap() = n.cast<float>();
-    q.curvature = std::numeric_limits<float>::quiet_NaN();
-    cloud.push_back(q);
+    points.col(count) = x;
+    normals.col(count) = n;
+    ++count;
   }
   // Outliers: uniform in the torus' world bounding box, random unit normals.
   const double e = t.R + t.r;
@@ -121,21 +136,16 @@ void TorusSampler::sample(pcl::PointCloud<pcl::PointNormal>& cloud,
     hi = hi.cwiseMax(c);
   }
   for (std::size_t k = 0; k < outliers; ++k) {
-    pcl::PointNormal q;
     const Eigen::Vector3d x =
         lo + (hi - lo).cwiseProduct(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)));
     Eigen::Vector3d n(gauss(rng), gauss(rng), gauss(rng));
     n = n.norm() > 0.0 ? n.normalized() : Eigen::Vector3d::UnitZ();
-    q.getVector3fMap() = x.cast<float>();
-    q.getNormalVector3fMap() = n.cast<float>();
-    q.curvature = std::numeric_limits<float>::quiet_NaN();
-    cloud.push_back(q);
+    points.col(count) = x;
+    normals.col(count) = n;
+    ++count;
     if (outlier)
       (*outlier)[p.points + k] = 1;
   }
-  cloud.width = static_cast<std::uint32_t>(cloud.size());
-  cloud.height = 1;
-  cloud.is_dense = true;
 }
 
 }  // namespace slipfit

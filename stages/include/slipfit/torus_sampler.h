@@ -62,6 +62,10 @@ class TorusSampler {
   /// Fills \a cloud; \a outlier (optional) gets 1 for outliers, 0 for surface samples.
   void sample(pcl::PointCloud<pcl::PointNormal>& cloud,
               std::vector<std::int32_t>* outlier = nullptr) const;
+  /// The same samples in double precision (3 × N points and unit normals), before the cloud's
+  /// float storage rounds them.
+  void sample(Eigen::Matrix3Xd& points, Eigen::Matrix3Xd& normals,
+              std::vector<std::int32_t>* outlier = nullptr) const;
 
  private:
   TorusSamplingParameters parameters_;
