@@ -261,6 +261,8 @@ std::string checkDataFlow(const PipelineConfig& config, unsigned input_bits) {
     }
     available |= flow.produces;
   }
+  if (!(available & kPoints))
+    return "no input section and no stage that makes points (e.g. torus_sampling)";
   return "";
 }
 

@@ -170,7 +170,8 @@ INSTANTIATE_TEST_SUITE_P(
     Catalogue, CliErrors,
     ::testing::Values(
         ErrorCase{"unknown_stage", "input: {path: x.ply}\nstages:\n  - type: normals\n", "", 2,
-                  ":3:11: unknown stage type 'normals'; known stages: neighborhood_selection, "
+                  ":3:11: unknown stage type 'normals'; known stages: torus_sampling, "
+                  "neighborhood_selection, "
                   "normal_estimation"},
         ErrorCase{"unknown_key",
                   "input: {path: x.ply}\nstages:\n  - type: normal_estimation\n    orientaton: "
@@ -219,7 +220,7 @@ TEST(Cli, UsageErrorsExitTwo) {
   CliResult r = runSlipfit("describe normal_estimaton");
   EXPECT_EQ(r.code, 2);
   EXPECT_THAT(r.err, HasSubstr("unknown stage 'normal_estimaton'; known stages: "
-                               "neighborhood_selection, normal_estimation"));
+                               "torus_sampling, neighborhood_selection, normal_estimation"));
   r = runSlipfit("run /nonexistent.yaml");
   EXPECT_EQ(r.code, 2);
   EXPECT_THAT(r.err, HasSubstr("config '/nonexistent.yaml': no such file"));

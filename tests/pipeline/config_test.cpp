@@ -74,7 +74,7 @@ TEST(Config, UnknownKeyNamesTheLineAndTheValidKeys) {
 TEST(Config, UnknownStageListsTheKnownOnes) {
   const std::string e = configError("input: {path: x.ply}\nstages:\n  - type: normal_estimaton\n");
   EXPECT_THAT(e, HasSubstr("config_test.yaml:3:11: unknown stage type 'normal_estimaton'; known "
-                           "stages: neighborhood_selection, normal_estimation"));
+                           "stages: torus_sampling, neighborhood_selection, normal_estimation"));
 }
 
 TEST(Config, BadValuesNameKeyAndLine) {
@@ -96,7 +96,8 @@ TEST(Config, BadValuesNameKeyAndLine) {
 }
 
 TEST(Config, StructureErrors) {
-  EXPECT_THAT(configError("stages: []\n"), HasSubstr("missing 'input' section"));
+  EXPECT_THAT(configError("stages: []\n"),
+              HasSubstr("no input section and no stage that makes points"));
   EXPECT_THAT(configError("input: {nan: skip}\nstages: []\n"),
               HasSubstr("section 'input': missing required key 'path'"));
   EXPECT_THAT(configError("input: {path: x.ply}\n"), HasSubstr("missing 'stages' list"));
