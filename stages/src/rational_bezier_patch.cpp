@@ -2,6 +2,7 @@
 
 #include "slipfit/exceptions.h"
 
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -40,8 +41,24 @@ RationalBezierPatch::RationalBezierPatch(int degree_u, int degree_v,
 
 namespace {
 
+/// de Casteljau scratch space: on the stack below degree 16, so evaluation does not allocate.
+class Scratch {
+ public:
+  explicit Scratch(std::size_t n) : n_(n) {
+    if (n > kStack) heap_.resize(n);
+  }
+  HomogeneousPoint& operator[](std::size_t i) { return n_ > kStack ? heap_[i] : stack_[i]; }
+  std::size_t size() const { return n_; }
+
+ private:
+  static constexpr std::size_t kStack = 16;
+  std::size_t n_;
+  std::array<HomogeneousPoint, kStack> stack_;
+  std::vector<HomogeneousPoint> heap_;
+};
+
 /// de Casteljau on \a points (in place) down to the last \a keep points.
-void reduce(std::vector<HomogeneousPoint>& points, double t, std::size_t keep) {
+void reduce(Scratch& points, double t, std::size_t keep) {
   for (std::size_t level = points.size(); level > keep; --level)
     for (std::size_t k = 0; k + 1 < level; ++k)
       points[k] = (1.0 - t) * points[k] + t * points[k + 1];
@@ -57,11 +74,9 @@ void checkParameter(double u, double v) {
 
 HomogeneousPoint RationalBezierPatch::evaluateHomogeneous(double u, double v) const {
   checkParameter(u, v);
-  std::vector<HomogeneousPoint> column(static_cast<std::size_t>(m_ + 1)),
-      row(static_cast<std::size_t>(n_ + 1));
+  Scratch column(static_cast<std::size_t>(m_ + 1)), row(static_cast<std::size_t>(n_ + 1));
   for (int i = 0; i <= m_; ++i) {
-    for (int j = 0; j <= n_; ++j)
-      row[j] = site(i, j);
+    for (int j = 0; j <= n_; ++j) row[j] = site(i, j);
     reduce(row, v, 1);
     column[i] = row[0];
   }
@@ -73,19 +88,15 @@ SurfacePoint RationalBezierPatch::evaluate(double u, double v) const {
   checkParameter(u, v);
   // Curves in u (one value per row, reduced in v) and in v (reduced in u); the last de Casteljau
   // level holds the value and the derivative: C(t) = (1−t) P0 + t P1, C'(t) = degree (P1 − P0).
-  std::vector<HomogeneousPoint> in_u(static_cast<std::size_t>(m_ + 1)),
-      row(static_cast<std::size_t>(n_ + 1));
+  Scratch in_u(static_cast<std::size_t>(m_ + 1)), row(static_cast<std::size_t>(n_ + 1));
   for (int i = 0; i <= m_; ++i) {
-    for (int j = 0; j <= n_; ++j)
-      row[j] = site(i, j);
+    for (int j = 0; j <= n_; ++j) row[j] = site(i, j);
     reduce(row, v, 1);
     in_u[i] = row[0];
   }
-  std::vector<HomogeneousPoint> in_v(static_cast<std::size_t>(n_ + 1)),
-      col(static_cast<std::size_t>(m_ + 1));
+  Scratch in_v(static_cast<std::size_t>(n_ + 1)), col(static_cast<std::size_t>(m_ + 1));
   for (int j = 0; j <= n_; ++j) {
-    for (int i = 0; i <= m_; ++i)
-      col[i] = site(i, j);
+    for (int i = 0; i <= m_; ++i) col[i] = site(i, j);
     reduce(col, u, 1);
     in_v[j] = col[0];
   }

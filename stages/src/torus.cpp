@@ -92,15 +92,23 @@ Eigen::Vector3d torusNormal(double alpha, double beta) {
   return {std::cos(alpha) * std::cos(beta), std::cos(alpha) * std::sin(beta), std::sin(alpha)};
 }
 
-SurfacePoint evaluateTorusBezier(const TorusShape& torus, double alpha, double beta) {
+TorusBezier::TorusBezier(const TorusShape& torus) {
+  quarters_.reserve(4);
+  for (int k = 0; k < 4; ++k) quarters_.push_back(torusQuarterPatch(torus, k));
+}
+
+SurfacePoint TorusBezier::evaluate(double alpha, double beta) const {
   const QuarterParameter q = quarterParameter(alpha, beta);
-  SurfacePoint s = torusQuarterPatch(torus, q.quarter).evaluate(q.u, q.v);
+  SurfacePoint s = quarter(q.quarter).evaluate(q.u, q.v);
   // Su × Sv points into the tube on quarter 0 (Sα × Sβ = −r(R + r cos α) n); each reflection
   // flips the orientation once more: outward = −det(M) Su × Sv with M = diag(1, ±1, ±1).
   const int reflections = (q.quarter & 1) + ((q.quarter >> 1) & 1);
-  if (reflections % 2 == 0)
-    s.normal = -s.normal;
+  if (reflections % 2 == 0) s.normal = -s.normal;
   return s;
+}
+
+SurfacePoint evaluateTorusBezier(const TorusShape& torus, double alpha, double beta) {
+  return TorusBezier(torus).evaluate(alpha, beta);
 }
 
 NurbsSurface torusNurbs(const TorusShape& torus) {

@@ -42,6 +42,7 @@ SurfaceMesh torusMesh(const TorusShape& torus, const TorusMeshParameters& p,
                       const Eigen::Isometry3d& pose) {
   torus.validate();
   p.validate();
+  const TorusBezier bezier(torus);
   SurfaceMesh mesh;
   const auto na = static_cast<std::size_t>(p.n_alpha), nb = static_cast<std::size_t>(p.n_beta);
   mesh.reserve(na * nb, 2 * na * nb, na * nb);
@@ -50,7 +51,7 @@ SurfaceMesh torusMesh(const TorusShape& torus, const TorusMeshParameters& p,
     const double a = torusGridAngle(static_cast<int>(i), p.n_alpha, p.spacing);
     for (std::size_t j = 0; j < nb; ++j) {
       const double b = torusGridAngle(static_cast<int>(j), p.n_beta, p.spacing);
-      const SurfacePoint s = evaluateTorusBezier(torus, a, b);
+      const SurfacePoint s = bezier.evaluate(a, b);
       v[i * nb + j] = mesh.add_vertex(toOm(pose * s.position));
       mesh.set_normal(v[i * nb + j], toOm(pose.linear() * s.normal));
     }

@@ -75,6 +75,7 @@ void TorusSampler::sample(Eigen::Matrix3Xd& points, Eigen::Matrix3Xd& normals,
   p.validate();
   const TorusShape& t = p.shape;
   const Eigen::Isometry3d pose = p.pose();
+  const TorusBezier bezier(t);
   std::mt19937_64 rng(p.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> gauss(0.0, 1.0);
@@ -115,7 +116,7 @@ void TorusSampler::sample(Eigen::Matrix3Xd& points, Eigen::Matrix3Xd& normals,
         break;
       }
     }
-    const SurfacePoint s = evaluateTorusBezier(t, a, b);
+    const SurfacePoint s = bezier.evaluate(a, b);
     Eigen::Vector3d x = pose * s.position;
     Eigen::Vector3d n = pose.linear() * s.normal;
     if (p.noise > 0.0)

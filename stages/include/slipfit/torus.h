@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <vector>
 
 namespace slipfit {
 
@@ -46,6 +47,19 @@ double quarterAngle(double u);
 /// The analytic point and outward unit normal at angles (α, β).
 Eigen::Vector3d torusPoint(const TorusShape& torus, double alpha, double beta);
 Eigen::Vector3d torusNormal(double alpha, double beta);
+
+/// The four quarter patches of one torus, built once for repeated evaluation.
+class TorusBezier {
+ public:
+  /// Throws InvalidParameterError unless 0 < r < R.
+  explicit TorusBezier(const TorusShape& torus);
+  const RationalBezierPatch& quarter(int k) const { return quarters_[static_cast<std::size_t>(k)]; }
+  /// Point, derivatives and outward unit normal at angles (α, β) (see evaluateTorusBezier).
+  SurfacePoint evaluate(double alpha, double beta) const;
+
+ private:
+  std::vector<RationalBezierPatch> quarters_;
+};
 
 /// Evaluates the Bézier representation at angles (α, β): the point and the outward unit normal
 /// (from the patch derivatives; the sign is fixed per quarter so that it points out of the tube).
