@@ -30,6 +30,8 @@ void TorusSamplingParameters::validate() const {
     reject("center must be finite");
   if (!axis.allFinite() || axis.norm() == 0.0)
     reject("axis must be a finite non-zero vector");
+  if (!std::isfinite(spin))
+    reject("spin must be finite");
   if (points < 1)
     reject("points must be at least 1");
   auto check_range = [](double lo, double hi, const char* name) {
@@ -49,7 +51,8 @@ void TorusSamplingParameters::validate() const {
 Eigen::Isometry3d TorusSamplingParameters::pose() const {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.linear() = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis.normalized())
-                   .toRotationMatrix();
+                   .toRotationMatrix() *
+               Eigen::AngleAxisd(spin, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   t.translation() = center;
   return t;
 }

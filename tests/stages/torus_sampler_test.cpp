@@ -16,6 +16,7 @@ TorusSamplingParameters posed() {
   p.shape = {1.5, 0.4};
   p.center = Eigen::Vector3d(1e3, -2e2, 50);
   p.axis = Eigen::Vector3d(1, -2, 0.5);
+  p.spin = 0.3;
   p.points = 20000;
   p.seed = 42;
   return p;
@@ -51,6 +52,16 @@ TEST(TorusSampler, SamplesLieOnTheTorusWithOutwardNormals) {
       ASSERT_NEAR(nl.dot((local - circle).normalized()), 1.0, 1e-9);
     }
   }
+}
+
+TEST(TorusSampler, PoseMapsTheAxisAndSpinsBetaZero) {
+  TorusSamplingParameters p = posed();
+  const Eigen::Isometry3d pose = p.pose();
+  EXPECT_LE((pose.linear() * Eigen::Vector3d::UnitZ() - p.axis.normalized()).norm(), 1e-15);
+  p.spin = 0.0;
+  const Eigen::Vector3d x0 = p.pose().linear() * Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d x1 = pose.linear() * Eigen::Vector3d::UnitX();
+  EXPECT_NEAR(std::acos(x0.dot(x1)), 0.3, 1e-12);
 }
 
 TEST(TorusSampler, UnposedSamplesMeetTheImplicitEquationTo1e12) {

@@ -23,6 +23,9 @@ class TorusSamplingStage : public Stage {
     o.add("minor_radius", p_.shape.r, "r: radius of the tube; 0 < r < R.").unit("units").above(0);
     o.add("center", center_, "Position of the torus centre.").unit("units");
     o.add("axis", axis_, "Direction of the symmetry axis (normalised).");
+    o.add("spin", spin_, "Rotation about the axis: where β = 0 lies (matters for partial coverage).")
+        .unit("deg")
+        .range(-360, 360);
     o.add("points", points_, "Surface samples (outliers come on top).")
         .unit("points")
         .range(1, 1e9);
@@ -70,6 +73,7 @@ class TorusSamplingStage : public Stage {
     p_.center = center_.cast<double>();
     p_.axis = axis_.cast<double>();
     p_.points = static_cast<std::size_t>(points_);
+    p_.spin = spin_ * kDegree;
     p_.alpha_min = alpha_min_ * kDegree;
     p_.alpha_max = alpha_max_ * kDegree;
     p_.beta_min = beta_min_ * kDegree;
@@ -139,6 +143,7 @@ class TorusSamplingStage : public Stage {
   int points_ = 20000;
   double alpha_min_ = 0.0, alpha_max_ = 360.0, beta_min_ = 0.0, beta_max_ = 360.0;
   double normal_noise_ = 0.0;
+  double spin_ = 0.0;
   bool mesh_ = false;
   bool naive_ = false;
   bool print_sites_ = false;
