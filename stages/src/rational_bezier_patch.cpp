@@ -45,7 +45,8 @@ namespace {
 class Scratch {
  public:
   explicit Scratch(std::size_t n) : n_(n) {
-    if (n > kStack) heap_.resize(n);
+    if (n > kStack)
+      heap_.resize(n);
   }
   HomogeneousPoint& operator[](std::size_t i) { return n_ > kStack ? heap_[i] : stack_[i]; }
   std::size_t size() const { return n_; }
@@ -76,7 +77,8 @@ HomogeneousPoint RationalBezierPatch::evaluateHomogeneous(double u, double v) co
   checkParameter(u, v);
   Scratch column(static_cast<std::size_t>(m_ + 1)), row(static_cast<std::size_t>(n_ + 1));
   for (int i = 0; i <= m_; ++i) {
-    for (int j = 0; j <= n_; ++j) row[j] = site(i, j);
+    for (int j = 0; j <= n_; ++j)
+      row[j] = site(i, j);
     reduce(row, v, 1);
     column[i] = row[0];
   }
@@ -90,13 +92,15 @@ SurfacePoint RationalBezierPatch::evaluate(double u, double v) const {
   // level holds the value and the derivative: C(t) = (1−t) P0 + t P1, C'(t) = degree (P1 − P0).
   Scratch in_u(static_cast<std::size_t>(m_ + 1)), row(static_cast<std::size_t>(n_ + 1));
   for (int i = 0; i <= m_; ++i) {
-    for (int j = 0; j <= n_; ++j) row[j] = site(i, j);
+    for (int j = 0; j <= n_; ++j)
+      row[j] = site(i, j);
     reduce(row, v, 1);
     in_u[i] = row[0];
   }
   Scratch in_v(static_cast<std::size_t>(n_ + 1)), col(static_cast<std::size_t>(m_ + 1));
   for (int j = 0; j <= n_; ++j) {
-    for (int i = 0; i <= m_; ++i) col[i] = site(i, j);
+    for (int i = 0; i <= m_; ++i)
+      col[i] = site(i, j);
     reduce(col, u, 1);
     in_v[j] = col[0];
   }

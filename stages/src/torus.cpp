@@ -94,7 +94,8 @@ Eigen::Vector3d torusNormal(double alpha, double beta) {
 
 TorusBezier::TorusBezier(const TorusShape& torus) {
   quarters_.reserve(4);
-  for (int k = 0; k < 4; ++k) quarters_.push_back(torusQuarterPatch(torus, k));
+  for (int k = 0; k < 4; ++k)
+    quarters_.push_back(torusQuarterPatch(torus, k));
 }
 
 SurfacePoint TorusBezier::evaluate(double alpha, double beta) const {
@@ -103,7 +104,8 @@ SurfacePoint TorusBezier::evaluate(double alpha, double beta) const {
   // Su × Sv points into the tube on quarter 0 (Sα × Sβ = −r(R + r cos α) n); each reflection
   // flips the orientation once more: outward = −det(M) Su × Sv with M = diag(1, ±1, ±1).
   const int reflections = (q.quarter & 1) + ((q.quarter >> 1) & 1);
-  if (reflections % 2 == 0) s.normal = -s.normal;
+  if (reflections % 2 == 0)
+    s.normal = -s.normal;
   return s;
 }
 

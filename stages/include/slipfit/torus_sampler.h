@@ -32,7 +32,7 @@ struct TorusSamplingParameters {
   TorusShape shape;
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< world position of the torus centre
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();   ///< world direction of the symmetry axis
-  double spin = 0.0;  ///< rotation about the axis, radians (where β = 0 lies)
+  double spin = 0.0;           ///< rotation about the axis, radians (where β = 0 lies)
   std::size_t points = 10000;  ///< surface samples (outliers come on top), >= 1
   TorusSampling sampling = TorusSampling::area;
   double alpha_min = 0.0;  ///< coverage around the tube, radians, 0 ≤ min < max ≤ 2π

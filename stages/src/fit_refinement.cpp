@@ -1,0 +1,320 @@
+// Refinement of a primitive on the true weighted geometric loss Σ wᵢ D²(pᵢ, A) by
+// Levenberg–Marquardt (Eigen's unsupported module, numerical Jacobian), in coordinates centred on
+// the weighted centroid and scaled to unit RMS radius; plus fitPrimitive and fitAuto.
+#include "slipfit/weighted_fit.h"
+
+#include <unsupported/Eigen/NonLinearOptimization>
+#include <unsupported/Eigen/NumericalDiff>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+
+namespace slipfit {
+
+namespace {
+
+constexpr double kHalfPi = 1.57079632679489661923;
+
+/// A primitive moved into normalised coordinates x' = (x − o)/s, and back.
+Primitive toNormalised(const Primitive& p, const Eigen::Vector3d& o, double s) {
+  return std::visit(
+      [&](auto shape) -> Primitive {
+        using T = decltype(shape);
+        if constexpr (std::is_same_v<T, Plane>) {
+          shape.d = (shape.d - shape.normal.dot(o)) / s;
+        } else if constexpr (std::is_same_v<T, Sphere>) {
+          shape.center = (shape.center - o) / s;
+          shape.radius /= s;
+        } else if constexpr (std::is_same_v<T, Cylinder>) {
+          shape.point = (shape.point - o) / s;
+          shape.radius /= s;
+        } else {
+          shape.apex = (shape.apex - o) / s;
+        }
+        return shape;
+      },
+      p);
+}
+
+Primitive fromNormalised(const Primitive& p, const Eigen::Vector3d& o, double s) {
+  return std::visit(
+      [&](auto shape) -> Primitive {
+        using T = decltype(shape);
+        if constexpr (std::is_same_v<T, Plane>) {
+          shape.d = shape.d * s + shape.normal.dot(o);
+        } else if constexpr (std::is_same_v<T, Sphere>) {
+          shape.center = shape.center * s + o;
+          shape.radius *= s;
+        } else if constexpr (std::is_same_v<T, Cylinder>) {
+          shape.point = shape.point * s + o;
+          shape.radius *= s;
+        } else {
+          shape.apex = shape.apex * s + o;
+        }
+        return shape;
+      },
+      p);
+}
+
+/// Local parametrization around an initial primitive: directions move in the tangent plane of
+/// their initial value (no pole), lengths and points additively.
+struct Chart {
+  Primitive base;
+  Eigen::Vector3d u = Eigen::Vector3d::UnitX(), v = Eigen::Vector3d::UnitY();
+
+  explicit Chart(const Primitive& initial) : base(initial) {
+    const Eigen::Vector3d dir = std::visit(
+        [](const auto& shape) -> Eigen::Vector3d {
+          using T = std::decay_t<decltype(shape)>;
+          if constexpr (std::is_same_v<T, Plane>)
+            return shape.normal;
+          else if constexpr (std::is_same_v<T, Sphere>)
+            return Eigen::Vector3d::UnitZ();
+          else
+            return shape.axis;
+        },
+        base);
+    u = dir.unitOrthogonal();
+    v = dir.cross(u);
+  }
+  int size() const {
+    static constexpr int kSizes[] = {3, 4, 5, 6};
+    return kSizes[base.index()];
+  }
+  Eigen::Vector3d turn(const Eigen::Vector3d& dir, double a, double b) const {
+    return (dir + a * u + b * v).normalized();
+  }
+  Primitive decode(const Eigen::VectorXd& x) const {
+    return std::visit(
+        [&](auto shape) -> Primitive {
+          using T = decltype(shape);
+          if constexpr (std::is_same_v<T, Plane>) {
+            shape.normal = turn(shape.normal, x[0], x[1]);
+            shape.d += x[2];
+          } else if constexpr (std::is_same_v<T, Sphere>) {
+            shape.center += x.head<3>();
+            shape.radius += x[3];
+          } else if constexpr (std::is_same_v<T, Cylinder>) {
+            shape.axis = turn(shape.axis, x[0], x[1]);
+            shape.point += x[2] * u + x[3] * v;
+            shape.radius += x[4];
+          } else {
+            shape.apex += x.head<3>();
+            shape.axis = turn(shape.axis, x[3], x[4]);
+            shape.half_angle += x[5];
+          }
+          return shape;
+        },
+        base);
+  }
+};
+
+struct Residuals {
+  using Scalar = double;
+  enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
+  using InputType = Eigen::VectorXd;
+  using ValueType = Eigen::VectorXd;
+  using JacobianType = Eigen::MatrixXd;
+
+  const Chart* chart;
+  const Eigen::Matrix3Xd* points;  // normalised, positive weights only
+  const Eigen::VectorXd* sqrt_w;
+  int inputs() const { return chart->size(); }
+  int values() const { return static_cast<int>(points->cols()); }
+  int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
+    const Primitive shape = chart->decode(x);
+    std::visit(
+        [&](const auto& s) {
+          for (Eigen::Index i = 0; i < points->cols(); ++i)
+            f[i] = (*sqrt_w)[i] * signedDistance(points->col(i), s);
+        },
+        shape);
+    return 0;
+  }
+};
+
+/// Canonical form: unit directions, positive radii, the cylinder's point at the foot of the
+/// perpendicular from the weighted centroid, the cone's half angle in (0, π/2).
+Primitive canonical(Primitive p, const Eigen::Vector3d& centroid) {
+  if (auto* c = std::get_if<Cylinder>(&p)) {
+    c->axis.normalize();
+    c->radius = std::abs(c->radius);
+    c->point += c->axis.dot(centroid - c->point) * c->axis;
+  } else if (auto* k = std::get_if<Cone>(&p)) {
+    k->axis.normalize();
+  } else if (auto* s = std::get_if<Sphere>(&p)) {
+    s->radius = std::abs(s->radius);
+  } else if (auto* pl = std::get_if<Plane>(&p)) {
+    const double n = pl->normal.norm();
+    pl->normal /= n;
+    pl->d /= n;
+  }
+  return p;
+}
+
+bool valid(const Primitive& p) {
+  return std::visit(
+      [](const auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, Plane>)
+          return s.normal.allFinite() && std::isfinite(s.d);
+        else if constexpr (std::is_same_v<T, Sphere>)
+          return s.center.allFinite() && s.radius > 0.0 && std::isfinite(s.radius);
+        else if constexpr (std::is_same_v<T, Cylinder>)
+          return s.axis.allFinite() && s.point.allFinite() && s.radius > 0.0 &&
+                 std::isfinite(s.radius);
+        else
+          return s.axis.allFinite() && s.apex.allFinite() && s.half_angle > 0.0 &&
+                 s.half_angle < kHalfPi;
+      },
+      p);
+}
+
+}  // namespace
+
+Primitive refinePrimitive(const Primitive& initial,
+                          const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                          const Eigen::Ref<const Eigen::VectorXd>& weights, int max_iterations,
+                          int* iterations) {
+  if (iterations)
+    *iterations = 0;
+  // Normalise: centre on the weighted centroid, scale to unit weighted RMS radius.
+  double w = 0.0;
+  Eigen::Vector3d o = Eigen::Vector3d::Zero();
+  Eigen::Index used = 0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0) {
+      w += weights[i];
+      o += weights[i] * points.col(i);
+      ++used;
+    }
+  if (!(w > 0.0))
+    return initial;
+  o /= w;
+  double s2 = 0.0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0)
+      s2 += weights[i] * (points.col(i) - o).squaredNorm();
+  const double s = std::sqrt(s2 / w);
+  if (!(s > 0.0))
+    return initial;
+  Eigen::Matrix3Xd q(3, used);
+  Eigen::VectorXd sw(used);
+  for (Eigen::Index i = 0, j = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0) {
+      q.col(j) = (points.col(i) - o) / s;
+      sw[j++] = std::sqrt(weights[i]);
+    }
+  const Chart chart(toNormalised(initial, o, s));
+  if (used < chart.size())
+    return initial;
+
+  Residuals f{&chart, &q, &sw};
+  Eigen::NumericalDiff<Residuals> numeric(f);
+  Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Residuals>> lm(numeric);
+  lm.parameters.maxfev = max_iterations * (chart.size() + 1);
+  lm.parameters.xtol = 1e-14;
+  lm.parameters.ftol = 1e-14;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(chart.size());
+  lm.minimize(x);
+  if (iterations)
+    *iterations = static_cast<int>(lm.iter);
+  const Primitive refined = canonical(fromNormalised(chart.decode(x), o, s), o);
+  if (!valid(refined))
+    return initial;
+  // Never worse than the start (LM could stop anywhere on a flat or non-smooth loss).
+  return weightedLoss(points, weights, refined) <= weightedLoss(points, weights, initial) ? refined
+                                                                                          : initial;
+}
+
+FitResult fitPrimitive(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                       const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                       const Eigen::Ref<const Eigen::VectorXd>& weights,
+                       const FitOptions& options) {
+  FitResult r;
+  switch (type) {
+    case PrimitiveType::plane:
+      r = estimatePlane(points, weights, options);
+      break;
+    case PrimitiveType::sphere:
+      r = estimateSphere(points, weights, options);
+      break;
+    case PrimitiveType::cylinder:
+      r = estimateCylinder(points, normals, weights, options);
+      break;
+    case PrimitiveType::cone:
+      r = estimateCone(points, normals, weights, options);
+      break;
+  }
+  if (!r.ok())
+    return r;
+  if (options.refine) {
+    r.refined =
+        refinePrimitive(r.algebraic, points, weights, options.max_iterations, &r.iterations);
+    r.loss_refined = weightedLoss(points, weights, r.refined);
+  }
+  double w = 0.0;
+  r.max_distance = 0.0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0) {
+      w += weights[i];
+      r.max_distance = std::max(r.max_distance, distance(points.col(i), r.refined));
+    }
+  r.rms_distance = std::sqrt(r.loss_refined / w);
+  return r;
+}
+
+FitResult fitAuto(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                  const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                  const Eigen::Ref<const Eigen::VectorXd>& weights, const FitOptions& options) {
+  // The data's squared size, to floor the mean squared distance of exact fits (loss 0) so that
+  // they still compare by complexity: the floor is (1e-10 × size)².
+  double w = 0.0, size2 = 0.0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0 && points.col(i).allFinite()) {
+      w += weights[i];
+      centroid += weights[i] * points.col(i);
+    }
+  if (w > 0.0) {
+    centroid /= w;
+    for (Eigen::Index i = 0; i < points.cols(); ++i)
+      if (weights[i] > 0.0 && points.col(i).allFinite())
+        size2 += weights[i] * (points.col(i) - centroid).squaredNorm();
+    size2 /= w;
+  }
+  const double floor = 1e-20 * std::max(size2, std::numeric_limits<double>::min());
+
+  FitResult best;
+  double best_score = std::numeric_limits<double>::infinity();
+  std::string reasons;
+  for (const auto& [type, name] : kPrimitiveTypeNames) {
+    if ((type == PrimitiveType::cylinder || type == PrimitiveType::cone) &&
+        normals.cols() != points.cols()) {
+      reasons += (reasons.empty() ? "" : "; ") + std::string(name) + " fit: no normals";
+      continue;
+    }
+    const FitResult r = fitPrimitive(type, points, normals, weights, options);
+    if (!r.ok()) {
+      reasons += (reasons.empty() ? "" : "; ") + r.reason;
+      continue;
+    }
+    const double n = static_cast<double>(r.used_points);
+    const double mse = r.loss_refined / w;
+    const double k = static_cast<double>(minimumPoints(type));  // 3, 4, 5, 6 parameters
+    const double score = n * std::log(std::max(mse, floor)) + k * std::log(n);
+    if (score < best_score) {
+      best_score = score;
+      best = r;
+    }
+  }
+  if (!std::isfinite(best_score)) {
+    best = FitResult{};
+    best.status = FitStatus::degenerate;
+    best.reason = "no primitive type fits: " + reasons;
+  }
+  return best;
+}
+
+}  // namespace slipfit

@@ -1,0 +1,61 @@
+#include "slipfit/primitives.h"
+
+#include <cmath>
+
+namespace slipfit {
+
+std::string_view primitiveTypeName(PrimitiveType type) {
+  for (const auto& [t, name] : kPrimitiveTypeNames)
+    if (t == type)
+      return name;
+  return "?";
+}
+
+PrimitiveType typeOf(const Primitive& primitive) {
+  return static_cast<PrimitiveType>(primitive.index());
+}
+
+double signedDistance(const Eigen::Vector3d& p, const Plane& s) {
+  return s.normal.dot(p) - s.d;
+}
+
+double signedDistance(const Eigen::Vector3d& p, const Sphere& s) {
+  return (p - s.center).norm() - s.radius;
+}
+
+double signedDistance(const Eigen::Vector3d& p, const Cylinder& s) {
+  const Eigen::Vector3d v = p - s.point;
+  return (v - v.dot(s.axis) * s.axis).norm() - s.radius;
+}
+
+double signedDistance(const Eigen::Vector3d& p, const Cone& s) {
+  // In the half-plane through the axis and p: h along the axis, ρ ≥ 0 away from it. The cone is
+  // the ray from the apex at angle θ to the axis, direction (cos θ, sin θ).
+  const Eigen::Vector3d v = p - s.apex;
+  const double h = v.dot(s.axis);
+  const double rho = (v - h * s.axis).norm();
+  const double c = std::cos(s.half_angle), sn = std::sin(s.half_angle);
+  if (h * c + rho * sn < 0.0)
+    return v.norm();  // beyond 90° from the ray: the apex is nearest
+  return rho * c - h * sn;
+}
+
+double signedDistance(const Eigen::Vector3d& p, const Primitive& s) {
+  return std::visit([&](const auto& shape) { return signedDistance(p, shape); }, s);
+}
+
+double weightedLoss(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                    const Eigen::Ref<const Eigen::VectorXd>& weights, const Primitive& primitive) {
+  return std::visit(
+      [&](const auto& shape) {
+        double loss = 0.0;
+        for (Eigen::Index i = 0; i < points.cols(); ++i) {
+          const double d = signedDistance(points.col(i), shape);
+          loss += weights[i] * d * d;
+        }
+        return loss;
+      },
+      primitive);
+}
+
+}  // namespace slipfit
