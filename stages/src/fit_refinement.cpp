@@ -6,6 +6,8 @@
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <unsupported/Eigen/NumericalDiff>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <functional>
 #include <limits>

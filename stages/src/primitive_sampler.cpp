@@ -2,6 +2,8 @@
 
 #include "slipfit/exceptions.h"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <random>
 #include <string>

@@ -50,6 +50,8 @@ double weightedLoss(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
       [&](const auto& shape) {
         double loss = 0.0;
         for (Eigen::Index i = 0; i < points.cols(); ++i) {
+          if (!(weights[i] > 0.0))
+            continue;  // zero weight: no influence, even when not finite
           const double d = signedDistance(points.col(i), shape);
           loss += weights[i] * d * d;
         }

@@ -3,7 +3,9 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
+#include <Eigen/Geometry>
 #include <algorithm>
+
 #include <cmath>
 #include <limits>
 
