@@ -180,9 +180,12 @@ class Loader {
   /// Parses every key of \a node into \a options; \a section names the override prefix.
   void applyMap(const YAML::Node& node, const OptionSet& options, const std::string& section,
                 const std::string& who, const std::set<std::string>& skip) {
-    std::set<std::string> seen;
+    std::set<std::string> seen, all_keys;
     for (const auto& kv : node) {
       const std::string key = kv.first.Scalar();
+      // yaml-cpp keeps both entries of a repeated key; the second would be silently ignored.
+      if (!all_keys.insert(key).second)
+        fail(keyPlace(section, key, kv.first.Mark()) + who + ": key '" + key + "' is given twice");
       if (skip.count(key))
         continue;
       const Option* option = options.find(key);

@@ -1,6 +1,7 @@
 #include "slipfit/pipeline/point_data.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace slipfit::pipeline {
 
@@ -18,6 +19,57 @@ const PointField* PointData::field(const std::string& name) const {
     if (f.name == name)
       return &f;
   return nullptr;
+}
+
+std::vector<double> PointData::numericField(const std::string& name) const {
+  std::vector<double> out;
+  if (const PointField* f = field(name)) {
+    std::visit([&](const auto& v) { out.assign(v.begin(), v.end()); }, f->values);
+    return out;
+  }
+  for (const auto& f : extra.fields) {
+    if (f.name != name || f.count != 1)
+      continue;
+    out.resize(extra.width);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const std::uint8_t* p = extra.data.data() + i * extra.point_step + f.offset;
+      auto load = [&](auto tag) {
+        decltype(tag) v;
+        std::memcpy(&v, p, sizeof(v));
+        return static_cast<double>(v);
+      };
+      switch (f.datatype) {
+        case pcl::PCLPointField::INT8:
+          out[i] = load(std::int8_t{});
+          break;
+        case pcl::PCLPointField::UINT8:
+          out[i] = load(std::uint8_t{});
+          break;
+        case pcl::PCLPointField::INT16:
+          out[i] = load(std::int16_t{});
+          break;
+        case pcl::PCLPointField::UINT16:
+          out[i] = load(std::uint16_t{});
+          break;
+        case pcl::PCLPointField::INT32:
+          out[i] = load(std::int32_t{});
+          break;
+        case pcl::PCLPointField::UINT32:
+          out[i] = load(std::uint32_t{});
+          break;
+        case pcl::PCLPointField::FLOAT32:
+          out[i] = load(float{});
+          break;
+        case pcl::PCLPointField::FLOAT64:
+          out[i] = load(double{});
+          break;
+        default:
+          return std::vector<double>{};
+      }
+    }
+    return out;
+  }
+  return out;
 }
 
 std::string dataBitsText(unsigned bits) {

@@ -3,6 +3,7 @@
 #include "run_cli.h"
 
 #include "slipfit/pipeline/cloud_io.h"
+#include "slipfit/pipeline/registry.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -169,10 +170,9 @@ std::string points(int n) {
 INSTANTIATE_TEST_SUITE_P(
     Catalogue, CliErrors,
     ::testing::Values(
-        ErrorCase{"unknown_stage", "input: {path: x.ply}\nstages:\n  - type: normals\n", "", 2,
-                  ":3:11: unknown stage type 'normals'; known stages: torus_sampling, "
-                  "neighborhood_selection, "
-                  "normal_estimation"},
+        ErrorCase{
+            "unknown_stage", "input: {path: x.ply}\nstages:\n  - type: normals\n", "", 2,
+            ":3:11: unknown stage type 'normals'; known stages: " + pipeline::knownStagesText()},
         ErrorCase{"unknown_key",
                   "input: {path: x.ply}\nstages:\n  - type: normal_estimation\n    orientaton: "
                   "consistent\n",
@@ -219,8 +219,8 @@ TEST(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(runSlipfit("run configs/demo.yaml --sett x=1").code, 2);
   CliResult r = runSlipfit("describe normal_estimaton");
   EXPECT_EQ(r.code, 2);
-  EXPECT_THAT(r.err, HasSubstr("unknown stage 'normal_estimaton'; known stages: "
-                               "torus_sampling, neighborhood_selection, normal_estimation"));
+  EXPECT_THAT(r.err, HasSubstr("unknown stage 'normal_estimaton'; known stages: " +
+                               pipeline::knownStagesText()));
   r = runSlipfit("run /nonexistent.yaml");
   EXPECT_EQ(r.code, 2);
   EXPECT_THAT(r.err, HasSubstr("config '/nonexistent.yaml': no such file"));

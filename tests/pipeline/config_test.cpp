@@ -1,5 +1,6 @@
 #include "slipfit/pipeline/config.h"
 #include "slipfit/pipeline/errors.h"
+#include "slipfit/pipeline/registry.h"
 
 #include "run_cli.h"
 
@@ -73,8 +74,9 @@ TEST(Config, UnknownKeyNamesTheLineAndTheValidKeys) {
 
 TEST(Config, UnknownStageListsTheKnownOnes) {
   const std::string e = configError("input: {path: x.ply}\nstages:\n  - type: normal_estimaton\n");
-  EXPECT_THAT(e, HasSubstr("config_test.yaml:3:11: unknown stage type 'normal_estimaton'; known "
-                           "stages: torus_sampling, neighborhood_selection, normal_estimation"));
+  EXPECT_THAT(
+      e, HasSubstr("config_test.yaml:3:11: unknown stage type 'normal_estimaton'; known stages: " +
+                   knownStagesText()));
 }
 
 TEST(Config, BadValuesNameKeyAndLine) {
@@ -111,6 +113,17 @@ TEST(Config, StructureErrors) {
       configError("input: {path: x.ply}\nstages:\n  - type: normal_estimation\n    threads: 2\n"),
       HasSubstr("unknown key 'threads'"));
   EXPECT_THAT(configError("- a\n- b\n"), HasSubstr("must be a YAML map"));
+}
+
+TEST(Config, RepeatedKeysAreErrors) {
+  EXPECT_THAT(
+      configError(
+          "input: {path: x.ply}\nstages:\n  - type: neighborhood_selection\n    k: 5\n    k: 6\n"),
+      HasSubstr(
+          ":5:5: stage 'neighborhood_selection' (neighborhood_selection): key 'k' is given twice"));
+  EXPECT_THAT(
+      configError("input: {path: x.ply}\nstages:\n  - type: primitive_sampling\n    type: plane\n"),
+      HasSubstr("key 'type' is given twice"));
 }
 
 TEST(Config, MissingConfigFile) {

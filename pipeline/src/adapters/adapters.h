@@ -8,5 +8,7 @@ namespace slipfit::pipeline::adapters {
 StageInfo neighborhoodSelectionInfo();
 StageInfo normalEstimationInfo();
 StageInfo torusSamplingInfo();
+StageInfo primitiveSamplingInfo();
+StageInfo primitiveFittingInfo();
 
 }  // namespace slipfit::pipeline::adapters

@@ -23,7 +23,8 @@ class TorusSamplingStage : public Stage {
     o.add("minor_radius", p_.shape.r, "r: radius of the tube; 0 < r < R.").unit("units").above(0);
     o.add("center", center_, "Position of the torus centre.").unit("units");
     o.add("axis", axis_, "Direction of the symmetry axis (normalised).");
-    o.add("spin", spin_, "Rotation about the axis: where β = 0 lies (matters for partial coverage).")
+    o.add("spin", spin_,
+          "Rotation about the axis: where β = 0 lies (matters for partial coverage).")
         .unit("deg")
         .range(-360, 360);
     o.add("points", points_, "Surface samples (outliers come on top).")

@@ -50,6 +50,9 @@ struct PointData {
   /// Adds a field, replacing one of the same name.
   void setField(PointField field);
   const PointField* field(const std::string& name) const;
+  /// The values of a numeric per-point field, from the stage fields or the input's extra fields;
+  /// empty when there is no such field (or it has count != 1).
+  std::vector<double> numericField(const std::string& name) const;
   /// Keeps the points with keep[i] != 0, in order, in every per-point array; neighbor lists lose
   /// the removed points and are renumbered.
   void keepOnly(const std::vector<char>& keep);

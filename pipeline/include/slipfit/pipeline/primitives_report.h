@@ -1,0 +1,27 @@
+#pragma once
+/// \file primitives.yaml: one entry per fitted primitive. Field names are fixed by the fitting
+/// issue (id, type, the parameters by name, inliers, rms_distance, max_distance, status); later
+/// stages add fields, never rename these.
+
+#include "slipfit/weighted_fit.h"
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace slipfit::pipeline {
+
+struct PrimitiveRecord {
+  int id = 0;
+  std::optional<int> label;  ///< the point label the primitive was fitted to
+  FitResult fit;
+  std::size_t inliers = 0;  ///< points with positive weight within the inlier distance
+  double inlier_distance = 0.0;
+  std::map<std::string, std::string> extra;  ///< further scalar fields (added by later stages)
+};
+
+/// The YAML text of the report (parameters of the refined fit; the closed form under `algebraic`).
+std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const std::string& source);
+
+}  // namespace slipfit::pipeline

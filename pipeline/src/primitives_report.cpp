@@ -1,0 +1,77 @@
+#include "slipfit/pipeline/primitives_report.h"
+
+#include <yaml-cpp/yaml.h>
+
+namespace slipfit::pipeline {
+
+namespace {
+
+void vec(YAML::Emitter& e, const char* key, const Eigen::Vector3d& v) {
+  e << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq << v.x() << v.y() << v.z()
+    << YAML::EndSeq;
+}
+
+void parameters(YAML::Emitter& e, const Primitive& p) {
+  std::visit(
+      [&](const auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, Plane>) {
+          vec(e, "normal", s.normal);
+          e << YAML::Key << "d" << YAML::Value << s.d;
+        } else if constexpr (std::is_same_v<T, Sphere>) {
+          vec(e, "center", s.center);
+          e << YAML::Key << "radius" << YAML::Value << s.radius;
+        } else if constexpr (std::is_same_v<T, Cylinder>) {
+          vec(e, "axis", s.axis);
+          vec(e, "point", s.point);
+          e << YAML::Key << "radius" << YAML::Value << s.radius;
+        } else {
+          vec(e, "axis", s.axis);
+          vec(e, "apex", s.apex);
+          e << YAML::Key << "half_angle" << YAML::Value << s.half_angle;
+        }
+      },
+      p);
+}
+
+}  // namespace
+
+std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const std::string& source) {
+  YAML::Emitter e;
+  e.SetDoublePrecision(17);
+  e << YAML::BeginMap;
+  e << YAML::Key << "source" << YAML::Value << source;
+  e << YAML::Key << "units" << YAML::Value << "lengths in the cloud's units, angles in radians";
+  e << YAML::Key << "primitives" << YAML::Value << YAML::BeginSeq;
+  for (const auto& r : records) {
+    e << YAML::BeginMap;
+    e << YAML::Key << "id" << YAML::Value << r.id;
+    if (r.label)
+      e << YAML::Key << "label" << YAML::Value << *r.label;
+    e << YAML::Key << "type" << YAML::Value << std::string(primitiveTypeName(r.fit.type));
+    e << YAML::Key << "status" << YAML::Value << std::string(fitStatusName(r.fit.status));
+    if (!r.fit.ok()) {
+      e << YAML::Key << "reason" << YAML::Value << r.fit.reason;
+    } else {
+      parameters(e, r.fit.refined);
+      e << YAML::Key << "inliers" << YAML::Value << r.inliers;
+      e << YAML::Key << "inlier_distance" << YAML::Value << r.inlier_distance;
+      e << YAML::Key << "rms_distance" << YAML::Value << r.fit.rms_distance;
+      e << YAML::Key << "max_distance" << YAML::Value << r.fit.max_distance;
+      e << YAML::Key << "used_points" << YAML::Value << r.fit.used_points;
+      e << YAML::Key << "loss_algebraic" << YAML::Value << r.fit.loss_algebraic;
+      e << YAML::Key << "loss_refined" << YAML::Value << r.fit.loss_refined;
+      e << YAML::Key << "reciprocal_condition" << YAML::Value << r.fit.reciprocal_condition;
+      e << YAML::Key << "algebraic" << YAML::Value << YAML::BeginMap;
+      parameters(e, r.fit.algebraic);
+      e << YAML::EndMap;
+    }
+    for (const auto& [k, v] : r.extra)
+      e << YAML::Key << k << YAML::Value << v;
+    e << YAML::EndMap;
+  }
+  e << YAML::EndSeq << YAML::EndMap;
+  return std::string(e.c_str()) + "\n";
+}
+
+}  // namespace slipfit::pipeline

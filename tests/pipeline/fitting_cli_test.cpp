@@ -1,0 +1,124 @@
+// primitive_sampling → PLY → primitive_fitting → primitives.yaml, as a user runs it.
+#include "run_cli.h"
+#include "slipfit/pipeline/cloud_io.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+
+namespace slipfit::testing {
+namespace {
+
+using ::testing::HasSubstr;
+
+Eigen::Vector3d vec(const YAML::Node& n) {
+  return {n[0].as<double>(), n[1].as<double>(), n[2].as<double>()};
+}
+double angleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) * 180.0 /
+         3.14159265358979323846;
+}
+
+YAML::Node fit(const std::string& cloud, const std::string& extra = "") {
+  const std::string out = scratchDir("fit_" + cloud);
+  const CliResult r = runSlipfit("run configs/fit_primitive.yaml --set input.path=sample_clouds/" +
+                                 cloud + ".ply --set output.dir=" + out + " " + extra);
+  EXPECT_EQ(r.code, 0) << r.err;
+  return YAML::LoadFile(out + "/primitives.yaml")["primitives"];
+}
+
+// The sample clouds' generating parameters are in configs/sample_*.yaml (noise σ = 0.004).
+TEST(FittingCli, AutoFitRecoversEachSampleCloud) {
+  YAML::Node p = fit("plane")[0];
+  EXPECT_EQ(p["type"].as<std::string>(), "plane");
+  EXPECT_LT(angleDeg(vec(p["normal"]), Eigen::Vector3d(0.2, -0.3, 0.93)), 0.5);
+  const double d =
+      p["d"].as<double>() * (vec(p["normal"]).dot(Eigen::Vector3d(0.2, -0.3, 0.93)) > 0 ? 1 : -1);
+  EXPECT_NEAR(d, 0.5, 0.002);
+
+  p = fit("sphere")[0];
+  EXPECT_EQ(p["type"].as<std::string>(), "sphere");
+  EXPECT_NEAR(p["radius"].as<double>(), 0.8, 0.008);
+  EXPECT_LT((vec(p["center"]) - Eigen::Vector3d(0.5, -0.2, 1.0)).norm(), 0.008);
+
+  p = fit("cylinder")[0];
+  EXPECT_EQ(p["type"].as<std::string>(), "cylinder");
+  EXPECT_NEAR(p["radius"].as<double>(), 0.4, 0.004);
+  EXPECT_LT(angleDeg(vec(p["axis"]), Eigen::Vector3d(0.3, 0.2, 1.0)), 1.0);
+  EXPECT_LE(p["loss_refined"].as<double>(), p["loss_algebraic"].as<double>());
+  EXPECT_EQ(p["status"].as<std::string>(), "ok");
+  EXPECT_GT(p["inliers"].as<int>(), 4900);
+  EXPECT_GT(p["rms_distance"].as<double>(), 0.0);
+  EXPECT_GT(p["max_distance"].as<double>(), p["rms_distance"].as<double>());
+
+  p = fit("cone")[0];
+  EXPECT_EQ(p["type"].as<std::string>(), "cone");
+  EXPECT_NEAR(p["half_angle"].as<double>() * 180 / 3.14159265358979323846, 25.0, 1.0);
+  EXPECT_LT(angleDeg(vec(p["axis"]), Eigen::Vector3d(0, 0.3, 1.0)), 1.0);
+  EXPECT_GT(vec(p["axis"]).dot(Eigen::Vector3d(0, 0.3, 1.0)), 0.0)
+      << "the axis points into the opening";
+  EXPECT_LT(vec(p["apex"]).norm(), 0.02);
+}
+
+TEST(FittingCli, OnePrimitivePerLabel) {
+  // Two sample clouds in one file with a 'label' field.
+  auto a = pipeline::readCloud(std::string(kSourceDir) + "/sample_clouds/sphere.ply",
+                               pipeline::NanPolicy::error);
+  const auto b = pipeline::readCloud(std::string(kSourceDir) + "/sample_clouds/plane.ply",
+                                     pipeline::NanPolicy::error);
+  std::vector<std::int32_t> label(a.size(), 7);
+  label.resize(a.size() + b.size(), 3);
+  *a.cloud += *b.cloud;
+  a.fields.clear();
+  a.extra = pcl::PCLPointCloud2();
+  a.setField({"label", label});
+  const std::string input = scratchFile("two.ply", "");
+  pipeline::writeCloudPly(a, input, true);
+  const std::string out = scratchDir("labels");
+  const CliResult r = runSlipfit("run configs/fit_primitive.yaml --set input.path=" + input +
+                                 " --set fit.labels=label --set output.dir=" + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const YAML::Node prims = YAML::LoadFile(out + "/primitives.yaml")["primitives"];
+  ASSERT_EQ(prims.size(), 2u);
+  EXPECT_EQ(prims[0]["label"].as<int>(), 3);
+  EXPECT_EQ(prims[0]["type"].as<std::string>(), "plane");
+  EXPECT_EQ(prims[1]["label"].as<int>(), 7);
+  EXPECT_EQ(prims[1]["type"].as<std::string>(), "sphere");
+  const auto cloud = pipeline::readCloud(out + "/cloud.ply", pipeline::NanPolicy::error);
+  EXPECT_EQ(cloud.numericField("fit_distance").size(), cloud.size());
+}
+
+TEST(FittingCli, BadFieldsAndDegenerateClouds) {
+  CliResult r = runSlipfit(
+      "run configs/fit_primitive.yaml --set fit.labels=nope --set output.dir=" + scratchDir("e1"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_THAT(
+      r.err,
+      HasSubstr("stage 'fit' (primitive_fitting): no per-point field 'nope' for the labels"));
+  // A plane fitted as a sphere: coplanar points, infinite radius.
+  r = runSlipfit(
+      "run configs/fit_primitive.yaml --set input.path=sample_clouds/torus_normals.ply "
+      "--set fit.primitive=cone --set output.dir=" +
+      scratchDir("e2"));
+  EXPECT_EQ(r.code, 0) << "a torus still gets a (poor) cone: " << r.err;
+  const std::string flat = scratchFile("flat.ply",
+                                       "ply\nformat ascii 1.0\nelement vertex 12\nproperty float "
+                                       "x\nproperty float y\nproperty float z\nend_header\n"
+                                       "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0.5 0.3 0\n2 0 0\n0 2 0\n2 2 "
+                                       "0\n3 1 0\n1 3 0\n0.2 0.9 0\n2.5 0.4 0\n");
+  r = runSlipfit("run configs/fit_primitive.yaml --set input.path=" + flat +
+                 " --set fit.primitive=sphere --set output.dir=" + scratchDir("e3"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_THAT(r.err,
+              HasSubstr("sphere fit: the points are coplanar (the radius would be infinite)"));
+  EXPECT_FALSE(std::filesystem::exists(scratchDir("e3") + "/primitives.yaml"));
+  r = runSlipfit("run configs/fit_primitive.yaml --set input.path=" + flat +
+                 " --set fit.primitive=cylinder --set output.dir=" + scratchDir("e4"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_THAT(r.err, HasSubstr("needs normals: the input has none"));
+}
+
+}  // namespace
+}  // namespace slipfit::testing
