@@ -33,7 +33,8 @@ void BM_TorusBezierEvaluate(benchmark::State& state) {
   std::uniform_real_distribution<double> angle(0.0, 6.283185307179586);
   double sink = 0.0;
   for (auto _ : state) {
-    for (int i = 0; i < 1000; ++i) sink += bezier.evaluate(angle(rng), angle(rng)).position.x();
+    for (int i = 0; i < 1000; ++i)
+      sink += bezier.evaluate(angle(rng), angle(rng)).position.x();
   }
   benchmark::DoNotOptimize(sink);
   state.SetItemsProcessed(state.iterations() * 1000);

@@ -251,6 +251,7 @@ FitResult fitPrimitive(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3
   }
   if (!r.ok())
     return r;
+  r.loss_algebraic = r.loss_refined = weightedLoss(points, weights, r.algebraic);
   if (options.refine) {
     r.refined =
         refinePrimitive(r.algebraic, points, weights, options.max_iterations, &r.iterations);

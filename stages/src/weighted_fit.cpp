@@ -148,23 +148,146 @@ void frame(const Eigen::Vector3d& a, Eigen::Vector3d* u, Eigen::Vector3d* v) {
   *v = a.cross(*u);
 }
 
-void finish(FitResult& r, const Points& points, const Weights& weights) {
+void finish(FitResult& r) {
   r.refined = r.algebraic;
-  r.loss_algebraic = r.loss_refined = weightedLoss(points, weights, r.algebraic);
+}
+
+/// Running sums of one pass (scalars, so that the compiler keeps them in registers).
+struct Sums {
+  double w = 0, x = 0, y = 0, z = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0, q = 0, tx = 0,
+         ty = 0, tz = 0;
+  template <bool full>
+  void add(double wi, double dx, double dy, double dz) {
+    const double wx = wi * dx, wy = wi * dy, wz = wi * dz;
+    w += wi;
+    x += wx;
+    y += wy;
+    z += wz;
+    xx += wx * dx;
+    xy += wx * dy;
+    xz += wx * dz;
+    yy += wy * dy;
+    yz += wy * dz;
+    zz += wz * dz;
+    if constexpr (full) {
+      const double dd = dx * dx + dy * dy + dz * dz;
+      q += wi * dd;
+      tx += wx * dd;
+      ty += wy * dd;
+      tz += wz * dd;
+    }
+  }
+  void into(Moments<3>* m) const {
+    m->w = w;
+    m->q = q;
+    m->s1 << x, y, z;
+    m->t << tx, ty, tz;
+    m->s2 << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+  }
+};
+
+/// The moments of all points with positive weight in one pass, validating on the way: the
+/// bandwidth-bound path of the plane and sphere estimators. Weights multiply, so zero weights need
+/// no branch, and two interleaved sets of sums halve the dependency chains. When the sums are not
+/// finite — a NaN point with weight 0 poisons them — the pass is redone skipping zero weights.
+/// Returns false when the input needs checkInput's full diagnosis. \a full adds the third-order
+/// terms the sphere needs.
+/// Σ over points of one interleaved pass; \a skip_zero leaves out zero weights altogether (a NaN
+/// point times weight 0 would otherwise poison the sums). Points keep their parity either way, so
+/// both variants round identically on the points they add.
+template <bool full, bool skip_zero>
+void interleavedSums(const Points& points, const Weights& weights, const Eigen::Vector3d& o,
+                     Sums* out, std::size_t* count, double* wmin) {
+  const Eigen::Index n = points.cols();
+  Sums a, b;
+  std::size_t c = 0;
+  double lo = 0.0;
+  const double* p = points.data();
+  const auto stride = points.outerStride();
+  const double ox = o.x(), oy = o.y(), oz = o.z();
+  // Unrolled by two, even points into a and odd into b: two independent dependency chains.
+  Eigen::Index i = 0;
+  for (; i + 1 < n; i += 2) {
+    const double w0 = weights[i], w1 = weights[i + 1];
+    const double* p0 = p + i * stride;
+    const double* p1 = p0 + stride;
+    c += (w0 > 0.0) + (w1 > 0.0);
+    lo = std::min(lo, std::min(w0, w1));
+    if (!skip_zero || w0 > 0.0)
+      a.add<full>(w0, p0[0] - ox, p0[1] - oy, p0[2] - oz);
+    if (!skip_zero || w1 > 0.0)
+      b.add<full>(w1, p1[0] - ox, p1[1] - oy, p1[2] - oz);
+  }
+  if (i < n) {
+    const double w0 = weights[i];
+    const double* p0 = p + i * stride;
+    c += w0 > 0.0;
+    lo = std::min(lo, w0);
+    if (!skip_zero || w0 > 0.0)
+      a.add<full>(w0, p0[0] - ox, p0[1] - oy, p0[2] - oz);
+  }
+  a.w += b.w, a.x += b.x, a.y += b.y, a.z += b.z, a.xx += b.xx, a.xy += b.xy, a.xz += b.xz;
+  a.yy += b.yy, a.yz += b.yz, a.zz += b.zz, a.q += b.q, a.tx += b.tx, a.ty += b.ty, a.tz += b.tz;
+  *out = a;
+  *count = c;
+  *wmin = lo;
+}
+
+/// The moments of all points with positive weight in one pass, validating on the way: the
+/// bandwidth-bound path of the plane and sphere estimators. Weights multiply, so zero weights need
+/// no branch, and two interleaved sets of sums halve the dependency chains. When the sums are not
+/// finite the pass is redone skipping zero weights. Returns false when the input needs
+/// checkInput's full diagnosis. \a full adds the third-order terms the sphere needs.
+template <bool full>
+bool onePassMoments(const Points& points, const Weights& weights, int min_points,
+                    Eigen::Vector3d* origin, Moments<3>* m, std::size_t* used) {
+  const Eigen::Index n = points.cols();
+  if (weights.size() != n)
+    return false;
+  Eigen::Index first = 0;
+  while (first < n && weights[first] == 0.0)
+    ++first;
+  if (first == n)
+    return false;
+  *origin = points.col(first);
+  Sums sums;
+  double wmin = 0.0;
+  interleavedSums<full, false>(points, weights, *origin, &sums, used, &wmin);
+  if (!(wmin >= 0.0) || *used < static_cast<std::size_t>(min_points))
+    return false;
+  auto finite = [&] {
+    return std::isfinite(m->w) && std::isfinite(m->q) && m->s1.allFinite() && m->t.allFinite() &&
+           m->s2.allFinite();
+  };
+  sums.into(m);
+  if (finite())
+    return true;
+  interleavedSums<full, true>(points, weights, *origin, &sums, used, &wmin);
+  sums.into(m);
+  return finite();
+}
+
+/// checkInput's diagnosis when the fast pass refused the input (there is always a reason).
+FitResult diagnose(PrimitiveType type, const Points& points, const Weights& weights) {
+  Eigen::Index first = -1;
+  FitResult r = checkInput(type, points, nullptr, weights, &first);
+  if (r.ok())
+    r = failure(type, FitStatus::invalid_input,
+                std::string(primitiveTypeName(type)) +
+                    " fit: the coordinates are too large (the sums overflow)");
+  return r;
 }
 
 }  // namespace
 
 FitResult estimatePlane(const Points& points, const Weights& weights, const FitOptions& options) {
-  Eigen::Index first = -1;
-  FitResult r = checkInput(PrimitiveType::plane, points, nullptr, weights, &first);
-  if (!r.ok())
-    return r;
-  const Eigen::Vector3d o = points.col(first);
+  Eigen::Vector3d o;
   Moments<3> m;
-  for (Eigen::Index i = 0; i < points.cols(); ++i)
-    if (weights[i] > 0.0)
-      m.add(weights[i], points.col(i) - o);
+  FitResult r;
+  r.type = PrimitiveType::plane;
+  if (!onePassMoments<false>(points, weights, minimumPoints(PrimitiveType::plane), &o, &m,
+                             &r.used_points))
+    return diagnose(PrimitiveType::plane, points, weights);
   // The plane through the weighted centroid with the normal of least weighted variance: the right
   // singular vector of diag(√w)(P − p̄) of the smallest singular value, i.e. the eigenvector of the
   // smallest eigenvalue of the weighted covariance.
@@ -178,20 +301,18 @@ FitResult estimatePlane(const Points& points, const Weights& weights, const FitO
   plane.normal = eig.eigenvectors().col(0).normalized();
   plane.d = plane.normal.dot(o + m.mean());
   r.algebraic = plane;
-  finish(r, points, weights);
+  finish(r);
   return r;
 }
 
 FitResult estimateSphere(const Points& points, const Weights& weights, const FitOptions& options) {
-  Eigen::Index first = -1;
-  FitResult r = checkInput(PrimitiveType::sphere, points, nullptr, weights, &first);
-  if (!r.ok())
-    return r;
-  const Eigen::Vector3d o = points.col(first);
+  Eigen::Vector3d o;
   Moments<3> m;
-  for (Eigen::Index i = 0; i < points.cols(); ++i)
-    if (weights[i] > 0.0)
-      m.add(weights[i], points.col(i) - o);
+  FitResult r;
+  r.type = PrimitiveType::sphere;
+  if (!onePassMoments<true>(points, weights, minimumPoints(PrimitiveType::sphere), &o, &m,
+                            &r.used_points))
+    return diagnose(PrimitiveType::sphere, points, weights);
   Eigen::Vector3d c;
   double radius = 0.0;
   if (!sphereFromMoments<3>(m, options.degenerate_rcond, &c, &radius, &r.reciprocal_condition))
@@ -201,7 +322,7 @@ FitResult estimateSphere(const Points& points, const Weights& weights, const Fit
   sphere.center = o + c;
   sphere.radius = radius;
   r.algebraic = sphere;
-  finish(r, points, weights);
+  finish(r);
   return r;
 }
 
@@ -251,7 +372,7 @@ FitResult estimateCylinder(const Points& points, const Points& normals, const We
   cyl.point = on_axis + a.dot(centroid - on_axis) * a;
   cyl.radius = radius;
   r.algebraic = cyl;
-  finish(r, points, weights);
+  finish(r);
   return r;
 }
 
@@ -319,7 +440,7 @@ FitResult estimateCone(const Points& points, const Points& normals, const Weight
                    "cone fit: the half angle " + std::to_string(theta) + " rad is not in (0, π/2)");
   r.reciprocal_condition = std::min(apex_rcond, axis_rcond);
   r.algebraic = Cone{a, c, theta};
-  finish(r, points, weights);
+  finish(r);
   return r;
 }
 

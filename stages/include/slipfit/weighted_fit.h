@@ -57,7 +57,9 @@ struct FitOptions {
   double degenerate_rcond = 1e-10;
 };
 
-/// Closed-form estimates (no refinement). Normals need not be unit length or consistently signed.
+/// Closed-form estimates (no refinement, and no loss: loss_* and the distances are filled by
+/// fitPrimitive). Plane and sphere read the data once. Normals need not be unit length or
+/// consistently signed.
 FitResult estimatePlane(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                         const Eigen::Ref<const Eigen::VectorXd>& weights,
                         const FitOptions& options = {});
