@@ -90,6 +90,22 @@ TEST(FittingCli, OnePrimitivePerLabel) {
   EXPECT_EQ(cloud.numericField("fit_distance").size(), cloud.size());
 }
 
+TEST(FittingCli, RobustConfigIgnoresOutliers) {
+  const std::string out = scratchDir("robust");
+  CliResult r = runSlipfit("run configs/fit_robust.yaml --set output.dir=" + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  YAML::Node p = YAML::LoadFile(out + "/primitives.yaml")["primitives"][0];
+  EXPECT_EQ(p["type"].as<std::string>(), "cylinder");
+  EXPECT_NEAR(p["radius"].as<double>(), 0.5, 0.005);
+  EXPECT_GT(p["inliers"].as<int>(), 3800);
+  EXPECT_LT(p["inliers"].as<int>(), 4000 + 1200 / 10);
+  // Same seed, same bytes.
+  const std::string again = scratchDir("robust2");
+  ASSERT_EQ(runSlipfit("run configs/fit_robust.yaml --quiet --set output.dir=" + again).code, 0);
+  EXPECT_EQ(slurp(out + "/primitives.yaml"), slurp(again + "/primitives.yaml"));
+  EXPECT_EQ(slurp(out + "/cloud.ply"), slurp(again + "/cloud.ply"));
+}
+
 TEST(FittingCli, BadFieldsAndDegenerateClouds) {
   CliResult r = runSlipfit(
       "run configs/fit_primitive.yaml --set fit.labels=nope --set output.dir=" + scratchDir("e1"));

@@ -3,10 +3,12 @@
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
+#include "slipfit/robust_fit.h"
 #include "slipfit/weighted_fit.h"
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <ostream>
 
@@ -43,6 +45,15 @@ class PrimitiveFittingStage : public Stage {
     o.add("min_points", min_points_, "Labels with fewer points are reported, not fitted.")
         .unit("points")
         .range(3, 1e9);
+    o.add("robust", robust_.method, kRobustMethodNames,
+          "none: plain weighted fit; irls: Tukey-biweight reweighting; ransac: best of seeded "
+          "minimal-sample hypotheses, then irls. With auto, the type with the most inliers wins "
+          "(within 1 %, the simpler one).");
+    o.add("robust_threshold", robust_.threshold,
+          "Inlier distance of the robust fit (unset: 2.5 × the robust residual scale).")
+        .unit("units")
+        .above(0);
+    o.add("ransac_iterations", robust_.ransac_iterations, "RANSAC hypotheses.").range(1, 1000000);
     o.add("report", report_, "File name of the YAML report in the output dir.");
   }
 
@@ -82,6 +93,7 @@ class PrimitiveFittingStage : public Stage {
     std::vector<float> fit_distance(n, -1.0f);
     for (const auto& [label, members] : groups) {
       PrimitiveRecord record;
+      std::vector<char> inliers;
       record.id = static_cast<int>(records.size());
       if (label >= 0)
         record.label = label;
@@ -99,11 +111,12 @@ class PrimitiveFittingStage : public Stage {
         record.fit.status = FitStatus::too_few_points;
         record.fit.reason = std::to_string(members.size()) + " points, min_points is " +
                             std::to_string(min_points_);
+      } else if (robust_.method != RobustMethod::none) {
+        record.fit = robustFit(points, normals, w, context.seed, &inliers, &record.inlier_distance);
       } else if (type_ == FitType::automatic) {
         record.fit = fitAuto(points, normals, w, options_);
       } else {
-        record.fit = fitPrimitive(static_cast<PrimitiveType>(static_cast<int>(type_) - 1), points,
-                                  normals, w, options_);
+        record.fit = fitPrimitive(fixedType(), points, normals, w, options_);
       }
       if (!record.fit.ok() && label < 0)
         throw RunError(record.fit.reason);
@@ -149,7 +162,58 @@ class PrimitiveFittingStage : public Stage {
   }
 
  private:
+  PrimitiveType fixedType() const {
+    return static_cast<PrimitiveType>(static_cast<int>(type_) - 1);
+  }
+
+  /// The robust fit of the fixed type, or with auto the type with the most inlier weight within a
+  /// common distance — the smallest of the types' own inlier distances, so that a poor type cannot
+  /// win by estimating a wide residual scale — and within 1 % of that, the one with fewer
+  /// parameters.
+  FitResult robustFit(const Eigen::Matrix3Xd& points, const Eigen::Matrix3Xd& normals,
+                      const Eigen::VectorXd& w, std::uint64_t seed, std::vector<char>* inliers,
+                      double* limit) const {
+    RobustOptions robust = robust_;
+    robust.seed = seed;
+    if (type_ != FitType::automatic)
+      return fitRobust(fixedType(), points, normals, w, robust, options_, inliers, limit);
+    std::vector<FitResult> fits;
+    double common = std::numeric_limits<double>::infinity();
+    for (const auto& [type, name] : kPrimitiveTypeNames) {
+      if ((type == PrimitiveType::cylinder || type == PrimitiveType::cone) &&
+          normals.cols() != points.cols())
+        continue;
+      double lim = 0.0;
+      const FitResult r = fitRobust(type, points, normals, w, robust, options_, nullptr, &lim);
+      if (!r.ok())
+        continue;
+      fits.push_back(r);
+      if (lim > 0.0)
+        common = std::min(common, lim);
+    }
+    FitResult best;
+    best.status = FitStatus::degenerate;
+    best.reason = "no primitive type fits robustly";
+    double best_weight = -1.0;
+    for (const FitResult& r : fits) {
+      double weight = 0.0;
+      for (Eigen::Index i = 0; i < points.cols(); ++i)
+        if (w[i] > 0.0 && distance(points.col(i), r.refined) <= common)
+          weight += w[i];
+      if (weight > 1.01 * best_weight) {
+        best_weight = weight;
+        best = r;
+      }
+    }
+    if (best.ok()) {
+      *limit = common;
+      inliers->clear();
+    }
+    return best;
+  }
+
   FitType type_ = FitType::automatic;
+  RobustOptions robust_{RobustMethod::none};
   std::string labels_, weights_;
   FitOptions options_;
   std::optional<double> inlier_distance_;

@@ -1,0 +1,44 @@
+#pragma once
+/// \file Robust wrappers around the weighted estimators: RANSAC hypotheses (seeded) and iteratively
+/// reweighted least squares with Tukey's biweight, so that outliers stop pulling the fit.
+
+#include "slipfit/weighted_fit.h"
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace slipfit {
+
+enum class RobustMethod {
+  none,   ///< the plain weighted fit
+  irls,   ///< Tukey-biweight reweighting from the plain fit (moderate outliers)
+  ransac  ///< best of seeded minimal-sample hypotheses, then IRLS (many outliers)
+};
+constexpr std::array<std::pair<RobustMethod, std::string_view>, 3> kRobustMethodNames{{
+    {RobustMethod::none, "none"},
+    {RobustMethod::irls, "irls"},
+    {RobustMethod::ransac, "ransac"},
+}};
+
+struct RobustOptions {
+  RobustMethod method = RobustMethod::irls;
+  /// Inlier distance. Unset: 2.5 × the robust residual scale 1.4826 · median |D| (of the best
+  /// RANSAC hypothesis, or of the plain fit for IRLS).
+  std::optional<double> threshold;
+  int irls_iterations = 30;
+  int ransac_iterations = 300;
+  std::uint64_t seed = 1;
+};
+
+/// Fits \a type robustly. The returned fit is computed on the final weights wᵢ·ψᵢ (ψ the biweight);
+/// \a inliers (optional) gets 1 for points within the final inlier distance, which is returned in
+/// *inlier_distance.
+FitResult fitRobust(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                    const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                    const Eigen::Ref<const Eigen::VectorXd>& weights, const RobustOptions& robust,
+                    const FitOptions& options = {}, std::vector<char>* inliers = nullptr,
+                    double* inlier_distance = nullptr);
+
+}  // namespace slipfit
