@@ -88,6 +88,26 @@ TEST(FittingCli, OnePrimitivePerLabel) {
   EXPECT_EQ(prims[1]["type"].as<std::string>(), "sphere");
   const auto cloud = pipeline::readCloud(out + "/cloud.ply", pipeline::NanPolicy::error);
   EXPECT_EQ(cloud.numericField("fit_distance").size(), cloud.size());
+
+  // Weights from a field: weight 0 on the plane's points leaves the sphere.
+  std::vector<float> weight(label.size());
+  for (std::size_t i = 0; i < label.size(); ++i)
+    weight[i] = label[i] == 7 ? 1.0f : 0.0f;
+  a.setField({"confidence", weight});
+  pipeline::writeCloudPly(a, input, true);
+  const std::string out2 = scratchDir("weights");
+  CliResult w = runSlipfit("run configs/fit_primitive.yaml --set input.path=" + input +
+                           " --set fit.weights=confidence --set output.dir=" + out2);
+  ASSERT_EQ(w.code, 0) << w.err;
+  EXPECT_EQ(YAML::LoadFile(out2 + "/primitives.yaml")["primitives"][0]["type"].as<std::string>(),
+            "sphere");
+  weight[5] = -1.0f;
+  a.setField({"confidence", weight});
+  pipeline::writeCloudPly(a, input, true);
+  w = runSlipfit("run configs/fit_primitive.yaml --set input.path=" + input +
+                 " --set fit.weights=confidence --set output.dir=" + scratchDir("weights_bad"));
+  EXPECT_EQ(w.code, 1);
+  EXPECT_THAT(w.err, HasSubstr("weight field 'confidence': point 5 has -1"));
 }
 
 TEST(FittingCli, RobustConfigIgnoresOutliers) {
