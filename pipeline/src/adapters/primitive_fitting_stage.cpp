@@ -213,7 +213,11 @@ class PrimitiveFittingStage : public Stage {
   }
 
   FitType type_ = FitType::automatic;
-  RobustOptions robust_{RobustMethod::none};
+  RobustOptions robust_ = [] {
+    RobustOptions o;
+    o.method = RobustMethod::none;
+    return o;
+  }();
   std::string labels_, weights_;
   FitOptions options_;
   std::optional<double> inlier_distance_;

@@ -3,8 +3,8 @@
 /// the maths kernels work on plain 3×N matrices whatever the point type.
 
 #include <pcl/point_cloud.h>
-#include <pcl/point_traits.h>
 #include <pcl/point_types.h>
+#include <pcl/type_traits.h>
 
 #include <Eigen/Core>
 

@@ -1,0 +1,88 @@
+#pragma once
+/// \file Slippage analysis (Gelfand & Guibas, "Shape segmentation using local slippage analysis",
+/// SGP 2004): the rigid motions that slide a point set along itself, read off the near-null space
+/// of the 6 × 6 matrix Σ wᵢ [pᵢ × nᵢ; nᵢ][pᵢ × nᵢ; nᵢ]ᵀ, and the primitive they reveal.
+/// Derivation: docs/THEORY.md §5.
+
+#include "slipfit/primitives.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace slipfit {
+
+/// What the slippable motions say about the surface.
+enum class SlippageType {
+  none,        ///< no slippable motion: a general (rigid) surface
+  plane,       ///< 3 motions: two translations and the rotation about the normal
+  sphere,      ///< 3 motions: rotations about the centre
+  cylinder,    ///< 2 motions: translation along and rotation about the axis
+  cone,        ///< 1 rotation; straight profile meeting the axis
+  torus,       ///< 1 rotation; circular profile
+  revolution,  ///< 1 rotation; another profile
+  extrusion,   ///< 1 translation
+  helix,       ///< 1 screw motion
+  degenerate   ///< too few points, collinear points, or more than 3 motions
+};
+constexpr std::array<std::pair<SlippageType, std::string_view>, 10> kSlippageTypeNames{{
+    {SlippageType::none, "none"},
+    {SlippageType::plane, "plane"},
+    {SlippageType::sphere, "sphere"},
+    {SlippageType::cylinder, "cylinder"},
+    {SlippageType::cone, "cone"},
+    {SlippageType::torus, "torus"},
+    {SlippageType::revolution, "revolution"},
+    {SlippageType::extrusion, "extrusion"},
+    {SlippageType::helix, "helix"},
+    {SlippageType::degenerate, "degenerate"},
+}};
+std::string_view slippageTypeName(SlippageType type);
+
+struct SlippageOptions {
+  /// An eigenvalue λ counts as slippable when λ ≤ threshold · λ_max (λ of the normalised matrix).
+  double threshold = 0.01;
+  /// Profile fits (line, circle) of a surface of revolution must have an RMS residual below this
+  /// fraction of the point set's RMS radius.
+  double profile_tolerance = 0.05;
+  /// |pitch| below this fraction of the RMS radius per radian counts as a pure rotation.
+  double pitch_tolerance = 0.02;
+};
+
+struct SlippageResult {
+  SlippageType type = SlippageType::degenerate;
+  std::string reason;  ///< for degenerate results
+  int motions = 0;     ///< number of slippable motions
+  Eigen::Matrix<double, 6, 1> spectrum =
+      Eigen::Matrix<double, 6, 1>::Zero();  ///< λ/λ_max ascending
+  /// The slippable motions [ω; v] (world coordinates, one per column, ω unit or zero).
+  Eigen::Matrix<double, 6, Eigen::Dynamic> basis;
+  std::optional<Eigen::Vector3d> axis;    ///< rotation / extrusion / screw axis direction
+  std::optional<Eigen::Vector3d> point;   ///< a point on the rotation or screw axis
+  std::optional<Eigen::Vector3d> center;  ///< sphere centre
+  std::optional<Eigen::Vector3d> normal;  ///< plane normal
+  std::optional<double> pitch;            ///< helix: translation per radian, world units
+  /// The primitive implied by the motions (initial guess for weighted fitting) when the type is
+  /// plane, sphere, cylinder or cone.
+  std::optional<Primitive> primitive;
+  double scale = 1.0;  ///< the RMS radius used to normalise
+};
+
+/// The 6 × 6 slippage matrix of (already normalised) points and normals, weighted.
+Eigen::Matrix<double, 6, 6> slippageMatrix(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                           const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                           const Eigen::Ref<const Eigen::VectorXd>& weights);
+
+/// Centres the points on their weighted centroid and scales them to unit RMS radius (so that
+/// rotations and translations are commensurate), builds and decomposes the matrix, counts and
+/// classifies the slippable motions and recovers the primitive's parameters. Normals may have any
+/// sign and length; zero-weight points are ignored.
+SlippageResult analyzeSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                               const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                               const Eigen::Ref<const Eigen::VectorXd>& weights,
+                               const SlippageOptions& options = {});
+
+}  // namespace slipfit
