@@ -102,9 +102,20 @@ SlippageResult analyzeSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
   SlippageResult r;
   r.scale = s;
   r.spectrum = eig.eigenvalues().cwiseMax(0.0) / lmax;
+  // The slippable motions are the eigenvalues below the threshold up to the largest relative gap:
+  // noise lifts the near-zero eigenvalues together, and the gap to the first rigid direction
+  // stays (Gelfand & Guibas read the count off the spectrum the same way).
+  // Below 1e-6 eigenvalues are rounding, all alike.
   int k = 0;
-  while (k < 6 && r.spectrum(k) <= options.threshold)
-    ++k;
+  double best_gap = 0.0;
+  constexpr double kFloor = 1e-6;
+  for (int j = 1; j <= 5 && r.spectrum(j - 1) <= options.threshold; ++j) {
+    const double gap = std::max(r.spectrum(j), kFloor) / std::max(r.spectrum(j - 1), kFloor);
+    if (gap > best_gap) {
+      best_gap = gap;
+      k = j;
+    }
+  }
   r.motions = k;
   const Eigen::Matrix<double, 6, Eigen::Dynamic> basis = eig.eigenvectors().leftCols(k);
   // Back to world coordinates: x = c + s p' moves with ω × x + (s v' − ω × c).

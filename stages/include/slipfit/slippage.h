@@ -43,13 +43,14 @@ constexpr std::array<std::pair<SlippageType, std::string_view>, 10> kSlippageTyp
 std::string_view slippageTypeName(SlippageType type);
 
 struct SlippageOptions {
-  /// An eigenvalue λ counts as slippable when λ ≤ threshold · λ_max (λ of the normalised matrix).
-  double threshold = 0.01;
+  /// Eigenvalues λ ≤ threshold · λ_max (of the normalised matrix) may be slippable; the count is
+  /// the one with the largest gap λ_k / λ_{k−1} among them.
+  double threshold = 0.05;
   /// Profile fits (line, circle) of a surface of revolution must have an RMS residual below this
   /// fraction of the point set's RMS radius.
   double profile_tolerance = 0.05;
   /// |pitch| below this fraction of the RMS radius per radian counts as a pure rotation.
-  double pitch_tolerance = 0.02;
+  double pitch_tolerance = 0.05;
 };
 
 struct SlippageResult {
