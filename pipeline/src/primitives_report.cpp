@@ -48,9 +48,39 @@ std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const st
     e << YAML::Key << "id" << YAML::Value << r.id;
     if (r.label)
       e << YAML::Key << "label" << YAML::Value << *r.label;
-    e << YAML::Key << "type" << YAML::Value << std::string(primitiveTypeName(r.fit.type));
-    e << YAML::Key << "status" << YAML::Value << std::string(fitStatusName(r.fit.status));
-    if (!r.fit.ok()) {
+    if (!r.fitted) {
+      const bool bad = r.slippage && r.slippage->type == SlippageType::degenerate;
+      e << YAML::Key << "type" << YAML::Value
+        << std::string(r.slippage ? slippageTypeName(r.slippage->type)
+                                  : std::string_view("unknown"));
+      e << YAML::Key << "status" << YAML::Value << (bad ? "degenerate" : "not_fitted");
+      if (bad)
+        e << YAML::Key << "reason" << YAML::Value << r.slippage->reason;
+    } else {
+      e << YAML::Key << "type" << YAML::Value << std::string(primitiveTypeName(r.fit.type));
+      e << YAML::Key << "status" << YAML::Value << std::string(fitStatusName(r.fit.status));
+    }
+    if (r.slippage) {
+      const SlippageResult& sl = *r.slippage;
+      e << YAML::Key << "slippage_type" << YAML::Value << std::string(slippageTypeName(sl.type));
+      e << YAML::Key << "slippable_motions" << YAML::Value << sl.motions;
+      e << YAML::Key << "spectrum" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (int j = 0; j < 6; ++j)
+        e << sl.spectrum(j);
+      e << YAML::EndSeq;
+      if (sl.axis)
+        vec(e, "slippage_axis", *sl.axis);
+      if (sl.point)
+        vec(e, "slippage_point", *sl.point);
+      if (sl.center)
+        vec(e, "slippage_center", *sl.center);
+      if (sl.normal)
+        vec(e, "slippage_normal", *sl.normal);
+      if (sl.pitch)
+        e << YAML::Key << "pitch" << YAML::Value << *sl.pitch;
+    }
+    if (!r.fitted) {
+    } else if (!r.fit.ok()) {
       e << YAML::Key << "reason" << YAML::Value << r.fit.reason;
     } else {
       parameters(e, r.fit.refined);

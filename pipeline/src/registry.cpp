@@ -7,9 +7,9 @@ namespace slipfit::pipeline {
 const std::vector<StageInfo>& stageRegistry() {
   // The one list of stages, in the order a pipeline usually runs them.
   static const std::vector<StageInfo> registry = {
-      adapters::torusSamplingInfo(),         adapters::primitiveSamplingInfo(),
-      adapters::neighborhoodSelectionInfo(), adapters::normalEstimationInfo(),
-      adapters::primitiveFittingInfo(),
+      adapters::torusSamplingInfo(),          adapters::primitiveSamplingInfo(),
+      adapters::neighborhoodSelectionInfo(),  adapters::normalEstimationInfo(),
+      adapters::slippageClassificationInfo(), adapters::primitiveFittingInfo(),
   };
   return registry;
 }

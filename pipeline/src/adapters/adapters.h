@@ -10,5 +10,6 @@ StageInfo normalEstimationInfo();
 StageInfo torusSamplingInfo();
 StageInfo primitiveSamplingInfo();
 StageInfo primitiveFittingInfo();
+StageInfo slippageClassificationInfo();
 
 }  // namespace slipfit::pipeline::adapters

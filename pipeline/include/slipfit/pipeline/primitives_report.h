@@ -3,6 +3,7 @@
 /// issue (id, type, the parameters by name, inliers, rms_distance, max_distance, status); later
 /// stages add fields, never rename these.
 
+#include "slipfit/slippage.h"
 #include "slipfit/weighted_fit.h"
 
 #include <map>
@@ -16,6 +17,8 @@ struct PrimitiveRecord {
   int id = 0;
   std::optional<int> label;  ///< the point label the primitive was fitted to
   FitResult fit;
+  bool fitted = true;                      ///< false: no weighted fit (type from slippage only)
+  std::optional<SlippageResult> slippage;  ///< the slippage verdict, when one was made
   std::size_t inliers = 0;  ///< points with positive weight within the inlier distance
   double inlier_distance = 0.0;
   std::map<std::string, std::string> extra;  ///< further scalar fields (added by later stages)

@@ -1,0 +1,177 @@
+#include "adapters.h"
+
+#include "slipfit/local_slippage.h"
+#include "slipfit/pipeline/errors.h"
+#include "slipfit/pipeline/output_files.h"
+#include "slipfit/pipeline/primitives_report.h"
+#include "slipfit/slippage.h"
+#include "slipfit/weighted_fit.h"
+
+#include <fstream>
+#include <ostream>
+
+namespace slipfit::pipeline::adapters {
+
+namespace {
+
+enum class SlippageMode { whole, local };
+constexpr std::array<std::pair<SlippageMode, std::string_view>, 2> kSlippageModeNames{{
+    {SlippageMode::whole, "whole"},
+    {SlippageMode::local, "local"},
+}};
+
+std::optional<PrimitiveType> fittable(SlippageType t) {
+  switch (t) {
+    case SlippageType::plane:
+      return PrimitiveType::plane;
+    case SlippageType::sphere:
+      return PrimitiveType::sphere;
+    case SlippageType::cylinder:
+      return PrimitiveType::cylinder;
+    case SlippageType::cone:
+      return PrimitiveType::cone;
+    default:
+      return std::nullopt;
+  }
+}
+
+class SlippageStage : public Stage {
+ public:
+  void declare(OptionSet& o) override {
+    o.add("mode", mode_, kSlippageModeNames,
+          "whole: one verdict for the whole cloud, written to the report (then fitted); local: "
+          "per-point fields over the shared neighborhoods.");
+    o.add("threshold", options_.threshold,
+          "Eigenvalues below threshold × the largest may be slippable; the count is taken at the "
+          "largest spectral gap among them.")
+        .range(1e-9, 0.5);
+    o.add("profile_tolerance", options_.profile_tolerance,
+          "RMS residual (fraction of the RMS radius) a line or circle profile may have to call a "
+          "surface of revolution a cone or torus.")
+        .range(1e-6, 1);
+    o.add("pitch_tolerance", options_.pitch_tolerance,
+          "Screw pitch per radian (fraction of the RMS radius) below which a motion is a pure "
+          "rotation.")
+        .range(0, 10);
+    o.add("fit", fit_,
+          "Whole mode: weighted fit (closed form and from the slippage guess, refined) of a plane, "
+          "sphere, cylinder or cone verdict.");
+    o.add("report", report_, "Whole mode: file name of the YAML report in the output dir.");
+  }
+
+  DataFlow flow() const override {
+    return {
+        mode_ == SlippageMode::local ? (kPoints | kNormals | kNeighborhoods) : (kPoints | kNormals),
+        0u};
+  }
+
+  void run(PointData& data, RunContext& context) override {
+    if (mode_ == SlippageMode::local)
+      return runLocal(data, context);
+    const auto n = static_cast<Eigen::Index>(data.size());
+    Eigen::Matrix3Xd x(3, n), nn(3, n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      x.col(i) = (*data.cloud)[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();
+      nn.col(i) = (*data.cloud)[static_cast<std::size_t>(i)].getNormalVector3fMap().cast<double>();
+    }
+    const Eigen::VectorXd w = Eigen::VectorXd::Ones(n);
+    PrimitiveRecord record;
+    record.slippage = analyzeSlippage(x, nn, w, options_);
+    const SlippageResult& s = *record.slippage;
+    context.report << "slippage: " << slippageTypeName(s.type) << ", " << s.motions
+                   << " motions, spectrum " << s.spectrum.transpose()
+                   << (s.reason.empty() ? "" : " (" + s.reason + ")") << "\n";
+    const auto type = fittable(s.type);
+    record.fitted = fit_ && type.has_value();
+    if (record.fitted) {
+      record.fit = fitPrimitive(*type, x, nn, w);
+      if (s.primitive) {
+        // The slippage parameters as a second starting point; keep the better refined fit.
+        const Primitive from_slippage = refinePrimitive(*s.primitive, x, w, 100);
+        const double loss = weightedLoss(x, w, from_slippage);
+        if (!record.fit.ok() || loss < record.fit.loss_refined) {
+          record.fit.status = FitStatus::ok;
+          record.fit.reason.clear();
+          record.fit.type = *type;
+          record.fit.algebraic = record.fit.ok() ? record.fit.algebraic : *s.primitive;
+          record.fit.refined = from_slippage;
+          record.fit.loss_refined = loss;
+          record.fit.used_points = static_cast<std::size_t>(n);
+          record.fit.rms_distance = std::sqrt(loss / static_cast<double>(n));
+        }
+      }
+      if (record.fit.ok()) {
+        record.inlier_distance = 3.0 * record.fit.rms_distance;
+        record.fit.max_distance = 0.0;
+        for (Eigen::Index i = 0; i < n; ++i) {
+          const double d = distance(x.col(i), record.fit.refined);
+          record.fit.max_distance = std::max(record.fit.max_distance, d);
+          record.inliers += d <= record.inlier_distance ? 1 : 0;
+        }
+        context.report << "fit: " << primitiveTypeName(record.fit.type) << ", rms "
+                       << record.fit.rms_distance << "\n";
+      }
+    }
+    if (!context.outputs)
+      throw RunError("no output directory for the report");
+    const std::string text = primitivesYaml({record}, "slipfit slippage_classification");
+    context.outputs->add(report_, [&](const std::string& path) {
+      std::ofstream out(path, std::ios::binary);
+      out << text;
+      out.close();
+      if (!out)
+        throw RunError("cannot write '" + path + "'");
+    });
+  }
+
+ private:
+  void runLocal(PointData& data, RunContext& context) {
+    LocalSlippage<pcl::PointNormal> local;
+    local.setInputCloud(data.cloud);
+    local.setNeighborhoods(data.neighborhoods);
+    local.setOptions(options_);
+    local.setNumberOfThreads(context.threads);
+    pcl::PointCloud<PointSlippage> out;
+    local.compute(out);
+    const std::size_t n = out.size();
+    std::vector<std::int32_t> motions(n), type(n);
+    std::vector<float> ax(n), ay(n), az(n), gap(n);
+    std::array<std::size_t, kSlippageTypeNames.size()> counts{};
+    for (std::size_t i = 0; i < n; ++i) {
+      motions[i] = out[i].motions;
+      type[i] = out[i].slippage_type;
+      ax[i] = out[i].axis_x;
+      ay[i] = out[i].axis_y;
+      az[i] = out[i].axis_z;
+      gap[i] = out[i].gap;
+      ++counts[static_cast<std::size_t>(out[i].slippage_type)];
+    }
+    data.setField({"slippable_motions", std::move(motions)});
+    data.setField({"slippage_type", std::move(type)});
+    data.setField({"slip_axis_x", std::move(ax)});
+    data.setField({"slip_axis_y", std::move(ay)});
+    data.setField({"slip_axis_z", std::move(az)});
+    data.setField({"slip_gap", std::move(gap)});
+    context.report << "local slippage:";
+    for (std::size_t t = 0; t < counts.size(); ++t)
+      if (counts[t])
+        context.report << " " << kSlippageTypeNames[t].second << " " << counts[t];
+    context.report << "\n";
+  }
+
+  SlippageMode mode_ = SlippageMode::whole;
+  SlippageOptions options_;
+  bool fit_ = true;
+  std::string report_ = "primitives.yaml";
+};
+
+}  // namespace
+
+StageInfo slippageClassificationInfo() {
+  return {"slippage_classification",
+          "slippable motions (Gelfand & Guibas 2004) of the whole cloud or of every neighborhood: "
+          "type, axis/centre/apex/pitch, then the weighted fit",
+          [] { return std::unique_ptr<Stage>(new SlippageStage); }};
+}
+
+}  // namespace slipfit::pipeline::adapters
