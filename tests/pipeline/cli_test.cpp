@@ -113,7 +113,7 @@ TEST(Cli, StagesDescribeValidate) {
 
   r = runSlipfit("validate configs/demo.yaml");
   EXPECT_EQ(r.code, 0);
-  EXPECT_EQ(r.out, "configs/demo.yaml: valid, 2 stages\n");
+  EXPECT_EQ(r.out, "configs/demo.yaml: valid, 3 stages\n");
 }
 
 struct ErrorCase {
