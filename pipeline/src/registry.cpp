@@ -8,6 +8,7 @@ const std::vector<StageInfo>& stageRegistry() {
   // The one list of stages, in the order a pipeline usually runs them.
   static const std::vector<StageInfo> registry = {
       adapters::torusSamplingInfo(),          adapters::primitiveSamplingInfo(),
+      adapters::motionSurfaceSamplingInfo(),
       adapters::neighborhoodSelectionInfo(),  adapters::normalEstimationInfo(),
       adapters::slippageClassificationInfo(), adapters::primitiveFittingInfo(),
   };

@@ -5,6 +5,10 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/Core>
+
+#include <cmath>
+
 namespace slipfit::testing {
 namespace {
 
@@ -34,6 +38,26 @@ TEST(SlippageCli, WholeCloudVerdictsOfTheSampleClouds) {
       EXPECT_EQ(p["status"].as<std::string>(), "ok") << cloud;
       EXPECT_GT(p["rms_distance"].as<double>(), 0.0);
     }
+  }
+}
+
+TEST(SlippageCli, OneMotionSurfacesFromTheSurfaceSampler) {
+  for (const char* shape : {"helix", "revolution", "extrusion"}) {
+    const std::string out = scratchDir(std::string("one_motion_") + shape);
+    const CliResult r =
+        runSlipfit(std::string("run configs/classify_helix.yaml --set surface.shape=") + shape +
+                   " --set output.dir=" + out);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const YAML::Node p = YAML::LoadFile(out + "/primitives.yaml")["primitives"][0];
+    EXPECT_EQ(p["slippage_type"].as<std::string>(), shape);
+    EXPECT_EQ(p["slippable_motions"].as<int>(), 1);
+    const Eigen::Vector3d axis(p["slippage_axis"][0].as<double>(),
+                               p["slippage_axis"][1].as<double>(),
+                               p["slippage_axis"][2].as<double>());
+    EXPECT_GT(std::abs(axis.dot(Eigen::Vector3d(1, 0, 1).normalized())),
+              std::cos(3.14159265358979323846 / 180));
+    if (std::string(shape) == "helix")
+      EXPECT_NEAR(std::abs(p["pitch"].as<double>()), 0.25, 0.0025);
   }
 }
 

@@ -1,5 +1,6 @@
 #include "slipfit/slippage.h"
 
+#include "slipfit/motion_surface_sampler.h"
 #include "slipfit/primitive_sampler.h"
 #include "slipfit/torus_sampler.h"
 
@@ -129,6 +130,29 @@ TEST(Slippage, ExtrusionAndHelix) {
   EXPECT_EQ(r.type, SlippageType::helix) << slippageTypeName(r.type);
   ASSERT_TRUE(r.pitch);
   EXPECT_NEAR(std::abs(*r.pitch), h, 1e-6);
+}
+
+TEST(Slippage, OneMotionSamplersAreClassifiedAsSuch) {
+  for (const auto& [surface, name] : kMotionSurfaceNames) {
+    for (const double noise : {0.0, 0.005}) {
+      MotionSurfaceParameters p;
+      p.surface = surface;
+      p.noise = noise;
+      Eigen::Matrix3Xd x, n;
+      sampleMotionSurface(p, x, n);
+      const SlippageResult r = analyzeSlippage(x, n, Eigen::VectorXd::Ones(x.cols()));
+      const SlippageType expected = surface == MotionSurface::revolution  ? SlippageType::revolution
+                                    : surface == MotionSurface::extrusion ? SlippageType::extrusion
+                                                                          : SlippageType::helix;
+      EXPECT_EQ(r.type, expected) << name << " noise " << noise << ": got "
+                                  << slippageTypeName(r.type);
+      EXPECT_EQ(r.motions, 1) << name;
+      ASSERT_TRUE(r.axis) << name;
+      EXPECT_LT(angleDeg(*r.axis, Eigen::Vector3d::UnitZ()), 1.0) << name;
+      if (surface == MotionSurface::helix)
+        EXPECT_NEAR(std::abs(*r.pitch), p.pitch, 0.01 * p.pitch);
+    }
+  }
 }
 
 TEST(Slippage, DegenerateInput) {

@@ -9,6 +9,7 @@ StageInfo neighborhoodSelectionInfo();
 StageInfo normalEstimationInfo();
 StageInfo torusSamplingInfo();
 StageInfo primitiveSamplingInfo();
+StageInfo motionSurfaceSamplingInfo();
 StageInfo primitiveFittingInfo();
 StageInfo slippageClassificationInfo();
 

@@ -1,0 +1,41 @@
+#pragma once
+/// \file Seeded samplers of surfaces with exactly one slippable motion, for slippage tests and
+/// users: a surface of revolution with a curved profile, a linear extrusion of a non-circular
+/// profile, and a helicoid (a helical surface). Points with exact unit normals.
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+
+namespace slipfit {
+
+enum class MotionSurface {
+  revolution,  ///< ρ(t) = radius (1 + 0.3 sin(2π t / length)) around z, t ∈ [0, length]: a vase
+  extrusion,   ///< an ellipse with semi-axes radius and 0.5 radius swept along z over length
+  helix  ///< the helicoid (r cos θ, r sin θ, pitch θ), r ∈ [0.2, 1] radius, θ ∈ [0, length / pitch]
+};
+constexpr std::array<std::pair<MotionSurface, std::string_view>, 3> kMotionSurfaceNames{{
+    {MotionSurface::revolution, "revolution"},
+    {MotionSurface::extrusion, "extrusion"},
+    {MotionSurface::helix, "helix"},
+}};
+
+struct MotionSurfaceParameters {
+  MotionSurface surface = MotionSurface::revolution;
+  double radius = 1.0;  ///< > 0
+  double length = 2.0;  ///< extent along the axis, > 0
+  double pitch = 0.3;   ///< helix: rise per radian, ≠ 0
+  std::size_t points = 5000;
+  double noise = 0.0;  ///< σ of Gaussian position noise
+  std::uint64_t seed = 1;
+  /// Throws InvalidParameterError.
+  void validate() const;
+};
+
+/// Samples in the surface's frame (axis z through the origin): 3 × N points and unit normals.
+void sampleMotionSurface(const MotionSurfaceParameters& parameters, Eigen::Matrix3Xd& points,
+                         Eigen::Matrix3Xd& normals);
+
+}  // namespace slipfit
