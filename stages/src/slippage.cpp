@@ -40,14 +40,19 @@ SlippageResult degenerate(std::string reason) {
   return r;
 }
 
-/// Number of singular values of the 3 × k rotational block above 0.2 of a unit motion.
+/// Number of singular values of the 3 × k rotational block above 0.2 of the largest (relative, so
+/// that a small patch of a sphere, whose rotations about the far centre look like translations
+/// with small ω, still shows three independent rotations).
 int rotationalRank(const Eigen::Matrix3Xd& w, Eigen::Matrix3d* left, Eigen::MatrixXd* right) {
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(w, Eigen::ComputeFullU | Eigen::ComputeFullV);
   *left = svd.matrixU();
   *right = svd.matrixV();
   int rank = 0;
+  const double largest = svd.singularValues().size() ? svd.singularValues()(0) : 0.0;
+  if (largest < 0.1)
+    return 0;  // no rotation at all: translations only
   for (Eigen::Index j = 0; j < svd.singularValues().size(); ++j)
-    rank += svd.singularValues()(j) > 0.2 ? 1 : 0;
+    rank += svd.singularValues()(j) > 0.05 * largest ? 1 : 0;
   return rank;
 }
 
