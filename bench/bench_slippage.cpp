@@ -95,14 +95,19 @@ void BM_WholeCloudSlippage(benchmark::State& state) {
     nn.col(i) = p.getNormalVector3fMap().cast<double>();
   }
   const Eigen::VectorXd w = Eigen::VectorXd::Ones(n);
-  for (auto _ : state) benchmark::DoNotOptimize(slipfit::analyzeSlippage(x, nn, w).motions);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(slipfit::analyzeSlippage(x, nn, w).motions);
   state.SetItemsProcessed(state.iterations() * n);
 }
 
 BENCHMARK(BM_PclNormalsOwnSearch)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_PclNormalsSharedNeighborhoods)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_LocalSlippage)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_WholeCloudSlippage)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WholeCloudSlippage)
+    ->Arg(10000)
+    ->Arg(100000)
+    ->Arg(1000000)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <system_error>
 
 namespace slipfit::pipeline {
@@ -40,6 +41,16 @@ void OutputFiles::add(const std::string& name,
   }
   if (!fs::exists(tmp, ec))
     throw RunError("output '" + final_path.string() + "': the writer produced no file");
+}
+
+void OutputFiles::addText(const std::string& name, const std::string& text) {
+  add(name, [&](const std::string& path) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out)
+      throw RunError("cannot write '" + path + "' (disk full?)");
+  });
 }
 
 std::vector<std::string> OutputFiles::commit() {

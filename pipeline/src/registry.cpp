@@ -7,10 +7,10 @@ namespace slipfit::pipeline {
 const std::vector<StageInfo>& stageRegistry() {
   // The one list of stages, in the order a pipeline usually runs them.
   static const std::vector<StageInfo> registry = {
-      adapters::torusSamplingInfo(),          adapters::primitiveSamplingInfo(),
-      adapters::motionSurfaceSamplingInfo(),
-      adapters::neighborhoodSelectionInfo(),  adapters::normalEstimationInfo(),
-      adapters::slippageClassificationInfo(), adapters::primitiveFittingInfo(),
+      adapters::torusSamplingInfo(),         adapters::primitiveSamplingInfo(),
+      adapters::motionSurfaceSamplingInfo(), adapters::neighborhoodSelectionInfo(),
+      adapters::normalEstimationInfo(),      adapters::slippageClassificationInfo(),
+      adapters::primitiveFittingInfo(),
   };
   return registry;
 }

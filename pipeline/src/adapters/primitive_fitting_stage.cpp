@@ -151,14 +151,7 @@ class PrimitiveFittingStage : public Stage {
     }
     if (!context.outputs)
       throw RunError("no output directory for the report");
-    const std::string text = primitivesYaml(records, data_source_);
-    context.outputs->add(report_, [&](const std::string& path) {
-      std::ofstream out(path, std::ios::binary);
-      out << text;
-      out.close();
-      if (!out)
-        throw RunError("cannot write '" + path + "'");
-    });
+    context.outputs->addText(report_, primitivesYaml(records, data_source_));
   }
 
  private:

@@ -114,14 +114,7 @@ class SlippageStage : public Stage {
     }
     if (!context.outputs)
       throw RunError("no output directory for the report");
-    const std::string text = primitivesYaml({record}, "slipfit slippage_classification");
-    context.outputs->add(report_, [&](const std::string& path) {
-      std::ofstream out(path, std::ios::binary);
-      out << text;
-      out.close();
-      if (!out)
-        throw RunError("cannot write '" + path + "'");
-    });
+    context.outputs->addText(report_, primitivesYaml({record}, "slipfit slippage_classification"));
   }
 
  private:

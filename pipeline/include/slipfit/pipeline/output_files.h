@@ -19,6 +19,8 @@ class OutputFiles {
   /// Creates the directory if needed and calls \a write with a temporary path next to \a name.
   /// Throws RunError when the directory cannot be created or \a write fails.
   void add(const std::string& name, const std::function<void(const std::string& path)>& write);
+  /// add() for a text file.
+  void addText(const std::string& name, const std::string& text);
   /// Renames every temporary file to its final name; returns the final paths.
   std::vector<std::string> commit();
 
