@@ -1,10 +1,15 @@
 #include "slipfit/slippage.h"
 
+#include "slipfit/weighted_fit.h"
+
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
 
+#include <algorithm>
 #include <cmath>
+#include <initializer_list>
+#include <optional>
+#include <vector>
 
 namespace slipfit {
 
@@ -40,89 +45,73 @@ SlippageResult degenerate(std::string reason) {
   return r;
 }
 
-/// Number of singular values of the 3 × k rotational block above 0.2 of the largest (relative, so
-/// that a small patch of a sphere, whose rotations about the far centre look like translations
-/// with small ω, still shows three independent rotations).
-int rotationalRank(const Eigen::Matrix3Xd& w, Eigen::Matrix3d* left, Eigen::MatrixXd* right) {
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(w, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  *left = svd.matrixU();
-  *right = svd.matrixV();
-  int rank = 0;
-  const double largest = svd.singularValues().size() ? svd.singularValues()(0) : 0.0;
-  if (largest < 0.1)
-    return 0;  // no rotation at all: translations only
-  for (Eigen::Index j = 0; j < svd.singularValues().size(); ++j)
-    rank += svd.singularValues()(j) > 0.05 * largest ? 1 : 0;
-  return rank;
+/// The point set in the normalised frame (centroid c, RMS radius s) with the eigenvectors of its
+/// slippage matrix, smallest eigenvalue first.
+struct NormalisedSet {
+  const Eigen::Matrix3Xd& p;
+  const Eigen::Matrix3Xd& n;  ///< unit normals
+  const Eigen::VectorXd& w;
+  Eigen::Vector3d c;
+  double s;
+  Eigen::Matrix<double, 6, 6> matrix;  ///< the slippage matrix divided by its largest eigenvalue
+  Eigen::Matrix<double, 6, 6> vectors;
+};
+
+using Motion = Eigen::Matrix<double, 6, 1>;
+
+/// Relative slippage energy xᵀCx / xᵀx of a motion (on the spectrum's scale).
+double energy(const NormalisedSet& set, const Motion& x) {
+  return x.dot(set.matrix * x) / x.squaredNorm();
 }
 
-}  // namespace
+/// A family read off k motions is accepted when its ideal motions (built from the recovered axis,
+/// centre or normal) lie on the slippable side of the gap: energy below √(λ_k λ_{k+1}). With noise
+/// the eigenvectors of nearly equal eigenvalues mix, and the rotational rank alone misreads them.
+bool slippable(const NormalisedSet& set, const SlippageResult& r, int k,
+               std::initializer_list<Motion> motions, double* worst) {
+  const double bound = std::sqrt(std::max(r.spectrum(k - 1), 1e-6) * r.spectrum(k));
+  *worst = 0.0;
+  for (const Motion& m : motions)
+    *worst = std::max(*worst, energy(set, m));
+  return *worst <= bound;
+}
 
-SlippageResult analyzeSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
-                               const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
-                               const Eigen::Ref<const Eigen::VectorXd>& weights,
+/// Bayesian information criterion of a primitive on the normalised set (as fitAuto): the
+/// geometric evidence that tells a nearly flat patch of a cylinder from a plane.
+double bic(const NormalisedSet& set, const Primitive& primitive) {
+  double ms = 0.0;
+  for (Eigen::Index i = 0; i < set.p.cols(); ++i) {
+    const double d = distance(set.c + set.s * set.p.col(i), primitive) / set.s;
+    ms += set.w[i] * d * d;
+  }
+  const auto m = static_cast<double>(set.p.cols());
+  return m * std::log(std::max(ms, 1e-18)) +
+         static_cast<double>(minimumPoints(typeOf(primitive))) * std::log(m);
+}
+
+Motion rotationAbout(const Eigen::Vector3d& axis, const Eigen::Vector3d& point) {
+  Motion m;
+  m << axis, point.cross(axis);  // ω × (x − q) = ω × x + q × ω
+  return m;
+}
+
+Motion translation(const Eigen::Vector3d& direction) {
+  Motion m;
+  m << Eigen::Vector3d::Zero(), direction;
+  return m;
+}
+
+/// The motions of the k smallest eigenvalues read as a surface family, in world coordinates.
+SlippageResult classifyMotions(const NormalisedSet& set, const SlippageResult& base, int k,
                                const SlippageOptions& options) {
-  const Eigen::Index n = points.cols();
-  if (normals.cols() != n || weights.size() != n)
-    return degenerate("slippage: points, normals and weights differ in number");
-  // Normalise: centroid at the origin, unit RMS radius, unit normals.
-  double w = 0.0;
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  Eigen::Index used = 0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (!(weights[i] > 0.0))
-      continue;
-    if (!points.col(i).allFinite() || !normals.col(i).allFinite() ||
-        normals.col(i).squaredNorm() == 0.0)
-      return degenerate("slippage: point " + std::to_string(i) +
-                        " has a non-finite coordinate or no normal");
-    w += weights[i];
-    c += weights[i] * points.col(i);
-    ++used;
-  }
-  if (used < 6)
-    return degenerate("slippage: " + std::to_string(used) +
-                      " points with positive weight, at least 6 needed");
-  c /= w;
-  double s2 = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (weights[i] > 0.0)
-      s2 += weights[i] * (points.col(i) - c).squaredNorm();
-  const double s = std::sqrt(s2 / w);
-  if (!(s > 0.0))
-    return degenerate("slippage: all points coincide");
-  Eigen::Matrix3Xd p(3, used), nn(3, used);
-  Eigen::VectorXd ww(used);
-  for (Eigen::Index i = 0, j = 0; i < n; ++i)
-    if (weights[i] > 0.0) {
-      p.col(j) = (points.col(i) - c) / s;
-      nn.col(j) = normals.col(i).normalized();
-      ww[j++] = weights[i] / w;
-    }
-
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(slippageMatrix(p, nn, ww));
-  const double lmax = eig.eigenvalues()(5);
-  if (!(lmax > 0.0))
-    return degenerate("slippage: the matrix vanishes");
-  SlippageResult r;
-  r.scale = s;
-  r.spectrum = eig.eigenvalues().cwiseMax(0.0) / lmax;
-  // The slippable motions are the eigenvalues below the threshold up to the largest relative gap:
-  // noise lifts the near-zero eigenvalues together, and the gap to the first rigid direction
-  // stays (Gelfand & Guibas read the count off the spectrum the same way).
-  // Below 1e-6 eigenvalues are rounding, all alike.
-  int k = 0;
-  double best_gap = 0.0;
-  constexpr double kFloor = 1e-6;
-  for (int j = 1; j <= 5 && r.spectrum(j - 1) <= options.threshold; ++j) {
-    const double gap = std::max(r.spectrum(j), kFloor) / std::max(r.spectrum(j - 1), kFloor);
-    if (gap > best_gap) {
-      best_gap = gap;
-      k = j;
-    }
-  }
+  SlippageResult r = base;
+  const Eigen::Matrix3Xd& p = set.p;
+  const Eigen::VectorXd& ww = set.w;
+  const Eigen::Vector3d& c = set.c;
+  const double s = set.s;
+  const Eigen::Index used = p.cols();
   r.motions = k;
-  const Eigen::Matrix<double, 6, Eigen::Dynamic> basis = eig.eigenvectors().leftCols(k);
+  const Eigen::Matrix<double, 6, Eigen::Dynamic> basis = set.vectors.leftCols(k);
   // Back to world coordinates: x = c + s p' moves with ω × x + (s v' − ω × c).
   r.basis.resize(6, k);
   for (int j = 0; j < k; ++j) {
@@ -145,54 +134,82 @@ SlippageResult analyzeSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
   }
   const Eigen::Matrix3Xd om = basis.topRows(3);
   const Eigen::Matrix3Xd vel = basis.bottomRows(3);
-  Eigen::Matrix3d left;
-  Eigen::MatrixXd right;
-  const int rank = rotationalRank(om, &left, &right);
 
-  if (k == 3 && rank == 1) {
-    r.type = SlippageType::plane;
-    r.normal = left.col(0);
-    r.primitive = Plane{*r.normal, r.normal->dot(c)};
-    return r;
-  }
-  if (k == 3 && rank == 3) {
-    // Rotations about the centre q: v = q × ω = −[ω]× q for every basis motion.
-    Eigen::MatrixXd a(3 * k, 3);
-    Eigen::VectorXd b(3 * k);
-    for (int j = 0; j < k; ++j) {
-      const Eigen::Vector3d wj = om.col(j);
-      Eigen::Matrix3d cross;
-      cross << 0, -wj.z(), wj.y(), wj.z(), 0, -wj.x(), -wj.y(), wj.x(), 0;
-      a.middleRows(3 * j, 3) = -cross;
-      b.segment(3 * j, 3) = vel.col(j);
+  // Three motions read as a plane or a sphere, two as a cylinder. The ideal motions are built
+  // from the blocks of the matrix rather than from the eigenvectors, which noise mixes when their
+  // eigenvalues are close; both three-motion readings are tried and the better fit (BIC) kept.
+  const Eigen::Matrix3d cvv = set.matrix.bottomRightCorner<3, 3>();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> normal_spread(cvv);
+  if (k == 3) {
+    std::optional<SlippageResult> plane, sphere;
+    double worst = 0.0;
+    const Eigen::Matrix3d frame = normal_spread.eigenvectors();  // normal = widest spread
+    const Eigen::Vector3d nrm = frame.col(2);
+    if (slippable(set, r, k,
+                  {rotationAbout(nrm, Eigen::Vector3d::Zero()), translation(frame.col(0)),
+                   translation(frame.col(1))},
+                  &worst)) {
+      plane = r;
+      plane->type = SlippageType::plane;
+      plane->normal = nrm;
+      plane->primitive = Plane{nrm, nrm.dot(c)};
     }
-    const Eigen::Vector3d q = a.colPivHouseholderQr().solve(b);
-    r.type = SlippageType::sphere;
-    r.center = world(q);
-    double rr = 0.0;
-    for (Eigen::Index i = 0; i < used; ++i)
-      rr += ww[i] * (p.col(i) - q).norm();
-    r.primitive = Sphere{*r.center, rr * s};
-    return r;
-  }
-  if (k == 2 && rank == 1) {
-    // The combination with the largest rotation; the translation along the axis drops out of
-    // the axis point q = ω × v / ‖ω‖².
-    const Eigen::Vector2d mix = right.col(0);
-    const Eigen::Vector3d w1 = om * mix, v1 = vel * mix;
-    const Eigen::Vector3d a = w1.normalized();
-    Eigen::Vector3d q = w1.cross(v1) / w1.squaredNorm();
-    q -= a.dot(q) * a;  // foot of the perpendicular from the centroid (the origin here)
-    r.type = SlippageType::cylinder;
-    r.axis = a;
-    r.point = world(q);
-    double rho = 0.0;
+    // The centre is where the normal lines meet: min Σ w |(p − q) × n|².
+    Eigen::Matrix3d lhs = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
     for (Eigen::Index i = 0; i < used; ++i) {
-      const Eigen::Vector3d d = p.col(i) - q;
-      rho += ww[i] * (d - d.dot(a) * a).norm();
+      const Eigen::Matrix3d proj =
+          Eigen::Matrix3d::Identity() - set.n.col(i) * set.n.col(i).transpose();
+      lhs += ww[i] * proj;
+      rhs += ww[i] * proj * p.col(i);
     }
-    r.primitive = Cylinder{a, *r.point, rho * s};
-    return r;
+    const Eigen::Vector3d q = lhs.ldlt().solve(rhs);
+    if (q.allFinite() && slippable(set, r, k,
+                                   {rotationAbout(Eigen::Vector3d::UnitX(), q),
+                                    rotationAbout(Eigen::Vector3d::UnitY(), q),
+                                    rotationAbout(Eigen::Vector3d::UnitZ(), q)},
+                                   &worst)) {
+      sphere = r;
+      sphere->type = SlippageType::sphere;
+      sphere->center = world(q);
+      double rr = 0.0;
+      for (Eigen::Index i = 0; i < used; ++i)
+        rr += ww[i] * (p.col(i) - q).norm();
+      sphere->primitive = Sphere{*sphere->center, rr * s};
+    }
+    // A sphere far larger than the patch bends it by less than the noise the normals carry, and
+    // its free centre fits that noise: it reads as a plane.
+    if (sphere && plane && std::get<Sphere>(*sphere->primitive).radius > options.flat_radius * s)
+      sphere.reset();
+    if (plane && (!sphere || bic(set, *plane->primitive) <= bic(set, *sphere->primitive)))
+      return *plane;
+    if (sphere)
+      return *sphere;
+  }
+  if (k == 2) {
+    // The axis is the translation that slips best (the normal least spread along it); the axis
+    // point q ⟂ a minimises the energy of the rotation (a, q × a), whose residual per point is
+    // (p × n)·a + q·(a × n): Σ w (a×n)(a×n)ᵀ q = −Σ w ((p×n)·a)(a×n), from the blocks.
+    const Eigen::Vector3d a = normal_spread.eigenvectors().col(0);
+    Eigen::Matrix3d ax;
+    ax << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+    const Eigen::Matrix3d g = ax * cvv * ax.transpose();
+    const Eigen::Vector3d h = ax * set.matrix.bottomLeftCorner<3, 3>() * a;
+    Eigen::Vector3d q = g.completeOrthogonalDecomposition().solve(-h);
+    q -= a.dot(q) * a;
+    double worst = 0.0;
+    if (q.allFinite() && slippable(set, r, k, {rotationAbout(a, q), translation(a)}, &worst)) {
+      r.type = SlippageType::cylinder;
+      r.axis = a;
+      r.point = world(q);
+      double rho = 0.0;
+      for (Eigen::Index i = 0; i < used; ++i) {
+        const Eigen::Vector3d d = p.col(i) - q;
+        rho += ww[i] * (d - d.dot(a) * a).norm();
+      }
+      r.primitive = Cylinder{a, *r.point, rho * s};
+      return r;
+    }
   }
   if (k == 1) {
     const Eigen::Vector3d w1 = om.col(0), v1 = vel.col(0);
@@ -241,8 +258,8 @@ SlippageResult analyzeSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
     circ_rms = std::sqrt(circ_rms);
     if (line_rms <= options.profile_tolerance && line_rms <= circ_rms) {
       if (std::abs(line.x()) < 0.02) {
-        r.type =
-            SlippageType::cylinder;  // the translation along the axis fell just above the threshold
+        r.type = SlippageType::cylinder;  // the translation along the axis fell just above the
+                                          // threshold
         Eigen::Vector3d foot = q - a.dot(q) * a;
         r.point = world(foot);
         r.primitive = Cylinder{a, *r.point, line.y() * s};
@@ -262,11 +279,112 @@ SlippageResult analyzeSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
     return r;
   }
   SlippageResult d =
-      degenerate("slippage: " + std::to_string(k) + " motions with " + std::to_string(rank) +
-                 " independent rotations fit no known surface");
+      degenerate("slippage: " + std::to_string(k) + " motions that fit no known surface");
   d.motions = k;
   d.spectrum = r.spectrum;
   return d;
+}
+
+}  // namespace
+
+SlippageResult analyzeSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                               const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                               const Eigen::Ref<const Eigen::VectorXd>& weights,
+                               const SlippageOptions& options) {
+  const Eigen::Index n = points.cols();
+  if (normals.cols() != n || weights.size() != n)
+    return degenerate("slippage: points, normals and weights differ in number");
+  // Normalise: centroid at the origin, unit RMS radius, unit normals.
+  double w = 0.0;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  Eigen::Index used = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!(weights[i] > 0.0))
+      continue;
+    if (!points.col(i).allFinite() || !normals.col(i).allFinite() ||
+        normals.col(i).squaredNorm() == 0.0)
+      return degenerate("slippage: point " + std::to_string(i) +
+                        " has a non-finite coordinate or no normal");
+    w += weights[i];
+    c += weights[i] * points.col(i);
+    ++used;
+  }
+  if (used < 6)
+    return degenerate("slippage: " + std::to_string(used) +
+                      " points with positive weight, at least 6 needed");
+  c /= w;
+  double s2 = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (weights[i] > 0.0)
+      s2 += weights[i] * (points.col(i) - c).squaredNorm();
+  const double s = std::sqrt(s2 / w);
+  if (!(s > 0.0))
+    return degenerate("slippage: all points coincide");
+  Eigen::Matrix3Xd p(3, used), nn(3, used);
+  Eigen::VectorXd ww(used);
+  for (Eigen::Index i = 0, j = 0; i < n; ++i)
+    if (weights[i] > 0.0) {
+      p.col(j) = (points.col(i) - c) / s;
+      nn.col(j) = normals.col(i).normalized();
+      ww[j++] = weights[i] / w;
+    }
+
+  const Eigen::Matrix<double, 6, 6> matrix = slippageMatrix(p, nn, ww);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(matrix);
+  const double lmax = eig.eigenvalues()(5);
+  if (!(lmax > 0.0))
+    return degenerate("slippage: the matrix vanishes");
+  SlippageResult r;
+  r.scale = s;
+  r.spectrum = eig.eigenvalues().cwiseMax(0.0) / lmax;
+  // Candidate counts k: the eigenvalues below the threshold, ranked by the relative gap
+  // λ_{k+1}/λ_k to the next one (noise lifts the near-zero eigenvalues together, and the gap to
+  // the first rigid direction stays; below 1e-6 eigenvalues are rounding, all alike). The count is
+  // the best-ranked one whose motions form a known family: on a small, nearly flat patch of a
+  // cylinder the third eigenvalue is small too, and "three motions" would fit nothing.
+  constexpr double kFloor = 1e-6;
+  std::vector<std::pair<double, int>> candidates;
+  for (int j = 1; j <= 5 && r.spectrum(j - 1) <= options.threshold; ++j)
+    candidates.emplace_back(std::max(r.spectrum(j), kFloor) / std::max(r.spectrum(j - 1), kFloor),
+                            j);
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const auto& x, const auto& y) { return x.first > y.first; });
+  if (candidates.empty()) {
+    r.type = SlippageType::none;
+    return r;
+  }
+  const NormalisedSet set{p, nn, ww, c, s, matrix / lmax, eig.eigenvectors()};
+  // Four or more motions as the clearest gap is a verdict (collinear or too few points); a
+  // weaker candidate with four or more is not a fallback.
+  SlippageResult first = classifyMotions(set, r, candidates.front().second, options);
+  if (first.type == SlippageType::degenerate && candidates.front().second >= 4)
+    return first;
+  std::vector<SlippageResult> readings;
+  for (const auto& [gap, k] : candidates)
+    if (k < 4) {
+      SlippageResult attempt =
+          k == candidates.front().second ? first : classifyMotions(set, r, k, options);
+      if (attempt.type != SlippageType::degenerate)
+        readings.push_back(std::move(attempt));
+    }
+  if (readings.empty())
+    return first;
+  // Several readings slip: a nearly flat patch of a cylinder also reads as a plane, with its third
+  // eigenvalue above the noise yet below the threshold. The spectrum alone cannot tell; the
+  // distances of the points to each implied primitive can (BIC, as fitAuto).
+  if (!readings.front().primitive)
+    return readings.front();
+  std::size_t best = 0;
+  double best_bic = bic(set, *readings.front().primitive);
+  for (std::size_t j = 1; j < readings.size(); ++j)
+    if (readings[j].primitive) {
+      const double b = bic(set, *readings[j].primitive);
+      if (b < best_bic) {
+        best_bic = b;
+        best = j;
+      }
+    }
+  return readings[best];
 }
 
 }  // namespace slipfit

@@ -43,14 +43,19 @@ constexpr std::array<std::pair<SlippageType, std::string_view>, 10> kSlippageTyp
 std::string_view slippageTypeName(SlippageType type);
 
 struct SlippageOptions {
-  /// Eigenvalues λ ≤ threshold · λ_max (of the normalised matrix) may be slippable; the count is
-  /// the one with the largest gap λ_k / λ_{k−1} among them.
+  /// Eigenvalues λ ≤ threshold · λ_max (of the normalised matrix) may be slippable. Candidate
+  /// counts are ranked by the gap λ_{k+1} / λ_k; the count is the best-ranked one whose ideal
+  /// motions slip (energy below √(λ_k λ_{k+1})), and when several primitives slip, the one with the
+  /// lowest BIC on the point-to-surface distances.
   double threshold = 0.05;
   /// Profile fits (line, circle) of a surface of revolution must have an RMS residual below this
   /// fraction of the point set's RMS radius.
   double profile_tolerance = 0.05;
   /// |pitch| below this fraction of the RMS radius per radian counts as a pure rotation.
   double pitch_tolerance = 0.05;
+  /// A three-motion set that fits both a plane and a sphere whose radius exceeds this many RMS
+  /// radii of the point set is a plane (the sagitta is under 1 % of the patch).
+  double flat_radius = 50.0;
 };
 
 struct SlippageResult {
