@@ -1,5 +1,7 @@
 #include "slipfit/primitives.h"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 
 namespace slipfit {
@@ -42,6 +44,34 @@ double signedDistance(const Eigen::Vector3d& p, const Cone& s) {
 
 double signedDistance(const Eigen::Vector3d& p, const Primitive& s) {
   return std::visit([&](const auto& shape) { return signedDistance(p, shape); }, s);
+}
+
+namespace {
+
+/// Unit radial direction of \a v away from \a axis (any ⟂ direction on the axis).
+Eigen::Vector3d radial(const Eigen::Vector3d& v, const Eigen::Vector3d& axis) {
+  const Eigen::Vector3d r = v - v.dot(axis) * axis;
+  const double n = r.norm();
+  return n > 0.0 ? Eigen::Vector3d(r / n) : Eigen::Vector3d(axis.unitOrthogonal());
+}
+
+}  // namespace
+
+Eigen::Vector3d surfaceNormal(const Eigen::Vector3d& p, const Primitive& s) {
+  if (const auto* plane = std::get_if<Plane>(&s))
+    return plane->normal;
+  if (const auto* sphere = std::get_if<Sphere>(&s)) {
+    const Eigen::Vector3d v = p - sphere->center;
+    const double n = v.norm();
+    return n > 0.0 ? Eigen::Vector3d(v / n) : Eigen::Vector3d::UnitZ();
+  }
+  if (const auto* cylinder = std::get_if<Cylinder>(&s))
+    return radial(p - cylinder->point, cylinder->axis);
+  const auto& cone = std::get<Cone>(s);
+  const Eigen::Vector3d v = p - cone.apex;
+  // In the half-plane through the axis: the generator is (cos θ, sin θ) in (axis, radial), its
+  // outward normal (−sin θ, cos θ).
+  return std::cos(cone.half_angle) * radial(v, cone.axis) - std::sin(cone.half_angle) * cone.axis;
 }
 
 double weightedLoss(const Eigen::Ref<const Eigen::Matrix3Xd>& points,

@@ -61,6 +61,10 @@ inline double distance(const Eigen::Vector3d& p, const Primitive& s) {
   return std::abs(signedDistance(p, s));
 }
 
+/// Outward unit normal of the surface at the point nearest to \a p (the gradient of the signed
+/// distance). Where it is undefined (p on the axis or at the centre) some unit vector ⟂ the axis.
+Eigen::Vector3d surfaceNormal(const Eigen::Vector3d& p, const Primitive& s);
+
 /// Σ wᵢ D²(pᵢ, A) over the columns of \a points (3 × N) with weights \a weights (N).
 double weightedLoss(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                     const Eigen::Ref<const Eigen::VectorXd>& weights, const Primitive& primitive);

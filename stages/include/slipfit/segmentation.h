@@ -1,0 +1,100 @@
+#pragma once
+/// \file Scene segmentation into primitives by region growing from local slippage (after Gelfand
+/// & Guibas, SGP 2004): seeds where the per-point slippage is confidently one primitive, growth
+/// over the shared kNN graph while points agree with the region's weighted fit, refits as regions
+/// grow, merging of adjacent regions of one primitive, and label −1 for points that fit nothing.
+
+#include "slipfit/local_slippage.h"
+#include "slipfit/neighborhoods.h"
+#include "slipfit/slippage.h"
+#include "slipfit/weighted_fit.h"
+
+#include <pcl/PointIndices.h>
+#include <pcl/pcl_base.h>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace slipfit {
+
+struct SegmentationParameters {
+  /// Largest point-to-primitive distance of a member, units. Unset: 3 × the median local noise
+  /// (√ of the smallest covariance eigenvalue of each neighborhood) + ¼ of the median spacing.
+  std::optional<double> distance;
+  /// Largest angle between a member's normal and the primitive's (unsigned), radians, (0, π/2].
+  double max_angle = 0.5235987755982988;  // 30°
+  /// Smallest segment, points. Unset: max(30, N / 500).
+  std::optional<std::size_t> min_points;
+  /// Adjacent segments of one type merge when the fit of their union has an RMS distance at most
+  /// this factor times the larger of theirs. [1, 10].
+  double merge_factor = 1.5;
+
+  /// Throws InvalidParameterError naming the field.
+  void validate() const;
+};
+
+/// One segment: its points and the weighted fit of its primitive (refined on the true distance).
+struct Segment {
+  std::vector<int> indices;                     ///< cloud indices, ascending
+  FitResult fit;                                ///< type, parameters, losses
+  SlippageType seed_type = SlippageType::none;  ///< the local slippage type of its seed
+  double rms_distance = 0.0;                    ///< RMS point-to-surface distance
+  double max_distance = 0.0;                    ///< largest point-to-surface distance
+};
+
+struct SegmentationResult {
+  std::vector<std::int32_t> labels;  ///< per point: segment index, −1 unassigned
+  std::vector<Segment> segments;     ///< largest first
+  double distance = 0.0;             ///< the distance tolerance used
+  double max_angle = 0.0;            ///< the angle tolerance used, radians
+  std::size_t min_points = 0;        ///< the smallest segment allowed
+  std::size_t regions_grown = 0;     ///< seeds that were grown (kept or not)
+  std::size_t merges = 0;            ///< pairs of segments merged
+};
+
+/// Segments a cloud (3 × N points and normals, any sign) given each point's neighbors and local
+/// slippage type. Deterministic; throws DegenerateInputError on mismatched sizes or an empty
+/// cloud.
+SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                     const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                     const Neighborhoods& neighborhoods,
+                                     const std::vector<SlippageType>& local_types,
+                                     const SegmentationParameters& parameters = {});
+
+/// PCL-style front end: setInputCloud() (a point type with normals), setNeighborhoods(),
+/// setLocalSlippage() (from LocalSlippage over the whole cloud), then segment(), which returns
+/// one pcl::PointIndices per segment like pcl::RegionGrowing; result() has labels and fits.
+template <typename PointT>
+class SlippageSegmentation : public pcl::PCLBase<PointT> {
+ public:
+  using Ptr = std::shared_ptr<SlippageSegmentation<PointT>>;
+  void setNeighborhoods(std::shared_ptr<const Neighborhoods> neighborhoods) {
+    neighborhoods_ = std::move(neighborhoods);
+  }
+  void setLocalSlippage(typename pcl::PointCloud<PointSlippage>::ConstPtr slippage) {
+    slippage_ = std::move(slippage);
+  }
+  void setParameters(const SegmentationParameters& parameters) {
+    parameters.validate();
+    parameters_ = parameters;
+  }
+  void segment(std::vector<pcl::PointIndices>& clusters);
+  const SegmentationResult& result() const { return result_; }
+
+ protected:
+  using pcl::PCLBase<PointT>::input_;
+
+ private:
+  std::shared_ptr<const Neighborhoods> neighborhoods_;
+  typename pcl::PointCloud<PointSlippage>::ConstPtr slippage_;
+  SegmentationParameters parameters_;
+  SegmentationResult result_;
+};
+
+}  // namespace slipfit
+
+#include "slipfit/impl/segmentation.hpp"

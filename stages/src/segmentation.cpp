@@ -1,0 +1,391 @@
+#include "slipfit/segmentation.h"
+
+#include "slipfit/exceptions.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <set>
+#include <string>
+#include <tuple>
+
+namespace slipfit {
+
+void SegmentationParameters::validate() const {
+  if (distance && !(*distance > 0.0 && std::isfinite(*distance)))
+    throw InvalidParameterError("segmentation: distance must be > 0");
+  if (!(max_angle > 0.0 && max_angle <= 1.5707963267948966 + 1e-12))
+    throw InvalidParameterError("segmentation: max_angle must be in (0, 90] degrees");
+  if (min_points && *min_points < 3)
+    throw InvalidParameterError("segmentation: min_points must be at least 3");
+  if (!(merge_factor >= 1.0 && merge_factor <= 10.0))
+    throw InvalidParameterError("segmentation: merge_factor must be in [1, 10]");
+}
+
+namespace {
+
+std::optional<PrimitiveType> primitiveOf(SlippageType t) {
+  switch (t) {
+    case SlippageType::plane:
+      return PrimitiveType::plane;
+    case SlippageType::sphere:
+      return PrimitiveType::sphere;
+    case SlippageType::cylinder:
+      return PrimitiveType::cylinder;
+    case SlippageType::cone:
+      return PrimitiveType::cone;
+    default:
+      return std::nullopt;
+  }
+}
+
+double median(std::vector<double> v) {
+  if (v.empty())
+    return 0.0;
+  auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+/// The tolerance from the data: the local noise is √λ₀ of each neighborhood's covariance (the
+/// spread off its best plane), the spacing the distance to the nearest other point.
+double defaultDistance(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                       const Neighborhoods& hoods) {
+  std::vector<double> noise, spacing;
+  const std::size_t n = hoods.size();
+  const std::size_t stride = std::max<std::size_t>(1, n / 20000);  // a sample is enough
+  for (std::size_t i = 0; i < n; i += stride) {
+    const NeighborView v = hoods[i];
+    if (v.size() < 4)
+      continue;
+    spacing.push_back(std::sqrt(static_cast<double>(v.sqr_distances[1])));
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (pcl::index_t j : v)
+      mean += points.col(j);
+    mean /= static_cast<double>(v.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (pcl::index_t j : v) {
+      const Eigen::Vector3d d = points.col(j) - mean;
+      cov += d * d.transpose();
+    }
+    cov /= static_cast<double>(v.size());
+    noise.push_back(std::sqrt(
+        std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly)
+                          .eigenvalues()(0))));
+  }
+  return 3.0 * median(noise) + 0.25 * median(spacing);
+}
+
+class Grower {
+ public:
+  Grower(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+         const Eigen::Ref<const Eigen::Matrix3Xd>& normals, const Neighborhoods& hoods,
+         double distance, double max_angle)
+      : points_(points),
+        normals_(normals),
+        hoods_(hoods),
+        distance_(distance),
+        cos_angle_(std::cos(max_angle)),
+        stamp_(static_cast<std::size_t>(points.cols()), 0) {}
+
+  bool accepts(int i, const Primitive& primitive) const {
+    const Eigen::Vector3d p = points_.col(i);
+    if (!(distance(p, primitive) <= distance_))
+      return false;
+    return std::abs(surfaceNormal(p, primitive).dot(normals_.col(i))) >= cos_angle_;
+  }
+
+  FitResult fit(PrimitiveType type, const std::vector<int>& members) const {
+    const auto m = static_cast<Eigen::Index>(members.size());
+    Eigen::Matrix3Xd p(3, m), n(3, m);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      p.col(j) = points_.col(members[static_cast<std::size_t>(j)]);
+      n.col(j) = normals_.col(members[static_cast<std::size_t>(j)]);
+    }
+    return fitPrimitive(type, p, n, Eigen::VectorXd::Ones(m));
+  }
+
+  FitResult fitBest(const std::vector<int>& members) const {
+    const auto m = static_cast<Eigen::Index>(members.size());
+    Eigen::Matrix3Xd p(3, m), n(3, m);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      p.col(j) = points_.col(members[static_cast<std::size_t>(j)]);
+      n.col(j) = normals_.col(members[static_cast<std::size_t>(j)]);
+    }
+    return fitAuto(p, n, Eigen::VectorXd::Ones(m));
+  }
+
+  /// Grows from \a members (kept) over unlabelled points accepted by the fit, refitting each
+  /// time the region doubles. Returns the final fit (type fixed).
+  FitResult grow(PrimitiveType type, std::vector<int>& members, FitResult fit,
+                 const std::vector<std::int32_t>& labels) {
+    ++generation_;
+    for (int i : members)
+      stamp_[static_cast<std::size_t>(i)] = generation_;
+    std::size_t fitted_size = members.size();
+    for (std::size_t head = 0; head < members.size(); ++head) {
+      const NeighborView v = hoods_[static_cast<std::size_t>(members[head])];
+      for (pcl::index_t j : v) {
+        const auto uj = static_cast<std::size_t>(j);
+        if (stamp_[uj] == generation_ || labels[uj] >= 0)
+          continue;
+        if (!accepts(j, fit.refined))
+          continue;
+        stamp_[uj] = generation_;
+        members.push_back(j);
+      }
+      if (members.size() >= 2 * fitted_size) {
+        FitResult refit = this->fit(type, members);
+        if (refit.ok())
+          fit = std::move(refit);
+        fitted_size = members.size();
+      }
+    }
+    return fit;
+  }
+
+  /// Keeps the members the fit accepts.
+  void prune(std::vector<int>& members, const Primitive& primitive) const {
+    members.erase(std::remove_if(members.begin(), members.end(),
+                                 [&](int i) { return !accepts(i, primitive); }),
+                  members.end());
+  }
+
+ private:
+  const Eigen::Ref<const Eigen::Matrix3Xd>& points_;
+  const Eigen::Ref<const Eigen::Matrix3Xd>& normals_;
+  const Neighborhoods& hoods_;
+  double distance_;
+  double cos_angle_;
+  std::vector<std::uint32_t> stamp_;
+  std::uint32_t generation_ = 0;
+};
+
+/// Two planes more than the angle tolerance apart never merge; other pairs are tried.
+bool mayMerge(const Primitive& a, const Primitive& b, double max_angle) {
+  const auto* pa = std::get_if<Plane>(&a);
+  const auto* pb = std::get_if<Plane>(&b);
+  return !(pa && pb) || std::abs(pa->normal.dot(pb->normal)) >= std::cos(max_angle);
+}
+
+double rmsOf(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const std::vector<int>& members,
+             const Primitive& primitive, double* max_distance) {
+  double sum = 0.0, worst = 0.0;
+  for (int i : members) {
+    const double d = distance(points.col(i), primitive);
+    sum += d * d;
+    worst = std::max(worst, d);
+  }
+  if (max_distance)
+    *max_distance = worst;
+  return members.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(members.size()));
+}
+
+}  // namespace
+
+SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                     const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                     const Neighborhoods& hoods,
+                                     const std::vector<SlippageType>& local_types,
+                                     const SegmentationParameters& parameters) {
+  parameters.validate();
+  const auto n = static_cast<std::size_t>(points.cols());
+  if (n == 0)
+    throw DegenerateInputError("segmentation: the cloud is empty");
+  if (static_cast<std::size_t>(normals.cols()) != n || hoods.size() != n || local_types.size() != n)
+    throw DegenerateInputError(
+        "segmentation: points, normals, neighborhoods and local types differ in number");
+  if (!normals.allFinite())
+    throw DegenerateInputError("segmentation: some normals are missing (NaN)");
+
+  SegmentationResult result;
+  result.distance = parameters.distance.value_or(defaultDistance(points, hoods));
+  if (!(result.distance > 0.0))
+    throw DegenerateInputError(
+        "segmentation: cannot derive a distance tolerance (all points coincide); set distance");
+  result.max_angle = parameters.max_angle;
+  result.min_points = parameters.min_points.value_or(std::max<std::size_t>(30, n / 500));
+  result.labels.assign(n, -1);
+
+  // Seeds: points whose neighbors agree with their own primitive type, most agreement first
+  // (ties by index: deterministic).
+  std::vector<std::pair<int, int>> seeds;  // (−agreement, index)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!primitiveOf(local_types[i]))
+      continue;
+    int agree = 0;
+    for (pcl::index_t j : hoods[i])
+      agree += local_types[static_cast<std::size_t>(j)] == local_types[i] ? 1 : 0;
+    if (2 * agree > static_cast<int>(hoods[i].size()))
+      seeds.emplace_back(-agree, static_cast<int>(i));
+  }
+  std::sort(seeds.begin(), seeds.end());
+
+  Grower grower(points, normals, hoods, result.distance, result.max_angle);
+  std::vector<char> tried(n, 0);
+  std::vector<std::vector<int>> regions;
+  std::vector<FitResult> fits;
+  std::vector<SlippageType> seed_types;
+  for (const auto& [neg_agree, seed] : seeds) {
+    const auto us = static_cast<std::size_t>(seed);
+    if (result.labels[us] >= 0 || tried[us])
+      continue;
+    const PrimitiveType type = *primitiveOf(local_types[us]);
+    std::vector<int> members;
+    for (pcl::index_t j : hoods[us])
+      if (result.labels[static_cast<std::size_t>(j)] < 0 &&
+          local_types[static_cast<std::size_t>(j)] == local_types[us])
+        members.push_back(j);
+    tried[us] = 1;
+    if (static_cast<int>(members.size()) < minimumPoints(type) + 2)
+      continue;
+    FitResult fit = grower.fit(type, members);
+    if (!fit.ok())
+      continue;
+    grower.prune(members, fit.refined);
+    if (members.empty())
+      continue;
+    ++result.regions_grown;
+    fit = grower.grow(type, members, std::move(fit), result.labels);
+    // The seed's local type can be wrong (a cone patch reads as a cylinder): refit the grown
+    // region with the best type and, if it changes, grow again from the region with that type.
+    FitResult best = grower.fitBest(members);
+    if (best.ok() && best.type != type) {
+      grower.prune(members, best.refined);
+      if (!members.empty())
+        fit = grower.grow(best.type, members, std::move(best), result.labels);
+    }
+    FitResult final_fit = grower.fit(fit.type, members);
+    if (final_fit.ok())
+      fit = std::move(final_fit);
+    grower.prune(members, fit.refined);
+    for (int i : members)
+      tried[static_cast<std::size_t>(i)] = 1;
+    if (members.size() < result.min_points)
+      continue;
+    const auto label = static_cast<std::int32_t>(regions.size());
+    for (int i : members)
+      result.labels[static_cast<std::size_t>(i)] = label;
+    regions.push_back(std::move(members));
+    fits.push_back(std::move(fit));
+    seed_types.push_back(local_types[us]);
+  }
+
+  // Merge adjacent regions while the best fit of their union (any type: bands of a cone grown
+  // as cylinders merge into the cone) is about as good as the parts.
+  std::vector<char> alive(regions.size(), 1);
+  std::vector<int> version(regions.size(), 0);
+  std::set<std::tuple<std::size_t, std::size_t, int, int>> failed;
+  for (bool merged = true; merged;) {
+    merged = false;
+    std::map<std::pair<int, int>, std::size_t> adjacent;  // ordered: deterministic
+    for (std::size_t r = 0; r < regions.size(); ++r) {
+      if (!alive[r])
+        continue;
+      for (int i : regions[r])
+        for (pcl::index_t j : hoods[static_cast<std::size_t>(i)]) {
+          const int other = result.labels[static_cast<std::size_t>(j)];
+          if (other > static_cast<int>(r))
+            ++adjacent[{static_cast<int>(r), other}];
+        }
+    }
+    for (const auto& [pair, edges] : adjacent) {
+      const auto a = static_cast<std::size_t>(pair.first),
+                 b = static_cast<std::size_t>(pair.second);
+      if (!alive[a] || !alive[b] || !mayMerge(fits[a].refined, fits[b].refined, result.max_angle))
+        continue;
+      const auto key = std::make_tuple(a, b, version[a], version[b]);
+      if (failed.count(key))
+        continue;  // tried before, neither has changed since
+      // A region four times the other's size dominates the union's fit: its primitive must then
+      // hold most of the other's points already.
+      const std::size_t big = regions[a].size() >= regions[b].size() ? a : b;
+      const std::size_t small = big == a ? b : a;
+      if (regions[big].size() >= 4 * regions[small].size()) {
+        std::size_t held = 0;
+        for (int i : regions[small])
+          held += distance(points.col(i), fits[big].refined) <= result.distance ? 1 : 0;
+        if (2 * held < regions[small].size()) {
+          failed.insert(key);
+          continue;
+        }
+      }
+      std::vector<int> both = regions[a];
+      both.insert(both.end(), regions[b].begin(), regions[b].end());
+      FitResult fit = grower.fitBest(both);
+      const double limit =
+          parameters.merge_factor * std::max(fits[a].rms_distance, fits[b].rms_distance);
+      if (!fit.ok() || !(fit.rms_distance <= limit)) {
+        failed.insert(key);
+        continue;
+      }
+      ++version[a];
+      for (int i : regions[b])
+        result.labels[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(a);
+      regions[a] = std::move(both);
+      regions[b].clear();
+      fits[a] = std::move(fit);
+      alive[b] = 0;
+      ++result.merges;
+      merged = true;
+    }
+  }
+
+  // Points left over at creases (where estimated normals blur) join the adjacent region whose
+  // primitive is nearest, when within the distance tolerance; the normal test is waived.
+  for (bool assigned = true; assigned;) {
+    assigned = false;
+    std::vector<std::pair<int, std::int32_t>> joins;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (result.labels[i] >= 0)
+        continue;
+      double best = result.distance;
+      std::int32_t label = -1;
+      for (pcl::index_t j : hoods[i]) {
+        const std::int32_t other = result.labels[static_cast<std::size_t>(j)];
+        if (other < 0 || other == label)
+          continue;
+        const double d = distance(points.col(static_cast<Eigen::Index>(i)),
+                                  fits[static_cast<std::size_t>(other)].refined);
+        if (d <= best) {
+          best = d;
+          label = other;
+        }
+      }
+      if (label >= 0)
+        joins.emplace_back(static_cast<int>(i), label);
+    }
+    for (const auto& [i, label] : joins) {
+      result.labels[static_cast<std::size_t>(i)] = label;
+      regions[static_cast<std::size_t>(label)].push_back(i);
+      assigned = true;
+    }
+  }
+
+  // Largest first, indices ascending; labels renumbered to match.
+  std::vector<std::size_t> order;
+  for (std::size_t r = 0; r < regions.size(); ++r)
+    if (alive[r])
+      order.push_back(r);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    return regions[x].size() > regions[y].size();
+  });
+  std::fill(result.labels.begin(), result.labels.end(), -1);
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    Segment s;
+    s.indices = std::move(regions[order[k]]);
+    std::sort(s.indices.begin(), s.indices.end());
+    s.fit = std::move(fits[order[k]]);
+    s.seed_type = seed_types[order[k]];
+    s.rms_distance = rmsOf(points, s.indices, s.fit.refined, &s.max_distance);
+    for (int i : s.indices)
+      result.labels[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(k);
+    result.segments.push_back(std::move(s));
+  }
+  return result;
+}
+
+}  // namespace slipfit

@@ -1,0 +1,153 @@
+// Scene segmentation: Hungarian matching against brute force, and the labelled scene of the
+// scene sampler segmented end to end (neighborhoods → normals → local slippage → segmentation).
+#include "slipfit/segmentation.h"
+
+#include "slipfit/neighborhood_selection.h"
+#include "slipfit/normal_estimation.h"
+#include "slipfit/scene_sampler.h"
+#include "slipfit/segmentation_metrics.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <iostream>
+#include <numeric>
+#include <random>
+
+namespace slipfit {
+namespace {
+
+TEST(SegmentationMetrics, HungarianMatchesBruteForce) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    const std::size_t rows = 1 + trial % 6, cols = 1 + (trial / 6) % 6;
+    std::vector<double> w(rows * cols);
+    for (double& x : w)
+      x = unit(rng);
+    const std::vector<int> match = maximumAssignment(w, rows, cols);
+    double got = 0.0;
+    std::vector<char> used(cols, 0);
+    for (std::size_t r = 0; r < rows; ++r)
+      if (match[r] >= 0) {
+        ASSERT_LT(match[r], static_cast<int>(cols));
+        ASSERT_FALSE(used[static_cast<std::size_t>(match[r])]) << "column used twice";
+        used[static_cast<std::size_t>(match[r])] = 1;
+        got += w[r * cols + static_cast<std::size_t>(match[r])];
+      }
+    // Brute force over the injections of the smaller side.
+    std::vector<std::size_t> perm(std::max(rows, cols));
+    std::iota(perm.begin(), perm.end(), 0);
+    double best = 0.0;
+    do {
+      double sum = 0.0;
+      for (std::size_t r = 0; r < rows; ++r)
+        if (perm[r] < cols)
+          sum += w[r * cols + perm[r]];
+      best = std::max(best, sum);
+    } while (std::next_permutation(perm.begin(), perm.end()));
+    EXPECT_NEAR(got, best, 1e-12) << rows << "x" << cols;
+  }
+}
+
+TEST(SegmentationMetrics, ScoresAKnownLabelling) {
+  // Truth: 0 0 0 1 1 1 −1; prediction splits label 1 and swaps the names.
+  const std::vector<std::int32_t> truth{0, 0, 0, 1, 1, 1, -1};
+  const std::vector<std::int32_t> pred{1, 1, 1, 0, 0, 2, 2};
+  const SegmentationScore s = scoreSegmentation(truth, pred, {0, 2}, {2, 0, 2});
+  EXPECT_EQ(s.match[0], 1);
+  EXPECT_EQ(s.match[1], 0);
+  EXPECT_DOUBLE_EQ(s.iou[0], 1.0);
+  EXPECT_DOUBLE_EQ(s.iou[1], 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(s.mean_iou, (1.0 + 2.0 / 3.0) / 2);
+  EXPECT_DOUBLE_EQ(s.point_accuracy, 5.0 / 6.0);
+  EXPECT_DOUBLE_EQ(s.type_accuracy, 1.0);
+}
+
+struct SceneRun {
+  SegmentationResult result;
+  SegmentationScore score;
+};
+
+SceneRun segmentScene(std::size_t points, double noise, double outliers) {
+  SceneSamplingParameters sp;
+  sp.points = points;
+  sp.noise = noise;
+  sp.outlier_fraction = outliers;
+  sp.seed = 11;
+  Eigen::Matrix3Xd x, exact_normals;
+  std::vector<std::int32_t> truth;
+  sampleScene(sp, x, exact_normals, truth);
+  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  cloud->resize(static_cast<std::size_t>(x.cols()));
+  for (Eigen::Index i = 0; i < x.cols(); ++i)
+    (*cloud)[static_cast<std::size_t>(i)].getVector3fMap() = x.col(i).cast<float>();
+
+  NeighborhoodSelection<pcl::PointNormal> selection;
+  NeighborhoodParameters np;
+  np.k = 30;
+  selection.setParameters(np);
+  selection.setInputCloud(cloud);
+  auto hoods = std::make_shared<Neighborhoods>();
+  selection.compute(*hoods);
+  NormalEstimation<pcl::PointNormal, pcl::PointNormal> ne;
+  ne.setInputCloud(cloud);
+  ne.setNeighborhoods(hoods);
+  pcl::PointCloud<pcl::PointNormal> estimated;
+  ne.compute(estimated);
+  for (std::size_t i = 0; i < cloud->size(); ++i)
+    (*cloud)[i].getNormalVector3fMap() = estimated[i].getNormalVector3fMap();
+  auto slippage = std::make_shared<pcl::PointCloud<PointSlippage>>();
+  LocalSlippage<pcl::PointNormal> local;
+  local.setInputCloud(cloud);
+  local.setNeighborhoods(hoods);
+  local.compute(*slippage);
+
+  SlippageSegmentation<pcl::PointNormal> seg;
+  seg.setInputCloud(cloud);
+  seg.setNeighborhoods(hoods);
+  seg.setLocalSlippage(slippage);
+  std::vector<pcl::PointIndices> clusters;
+  seg.segment(clusters);
+  SceneRun run{seg.result(), {}};
+  EXPECT_EQ(clusters.size(), run.result.segments.size());
+
+  std::vector<int> truth_types, predicted_types;
+  for (const auto& p : scenePrimitives())
+    truth_types.push_back(static_cast<int>(typeOf(p.primitive)));
+  for (const auto& s : run.result.segments)
+    predicted_types.push_back(static_cast<int>(s.fit.type));
+  run.score = scoreSegmentation(truth, run.result.labels, truth_types, predicted_types);
+  std::cout << points << " points, noise " << noise << ", outliers " << outliers << ": "
+            << run.result.segments.size() << " segments (truth " << run.score.truths
+            << "), mean IoU " << run.score.mean_iou << ", point accuracy "
+            << run.score.point_accuracy << ", type accuracy " << run.score.type_accuracy
+            << ", distance " << run.result.distance << ", merges " << run.result.merges << "\n";
+  for (std::size_t t = 0; t < run.score.truths; ++t) {
+    const int k = run.score.match[t];
+    std::cout << "  " << scenePrimitives()[t].name << ": IoU " << run.score.iou[t];
+    if (k >= 0)
+      std::cout << " as "
+                << primitiveTypeName(run.result.segments[static_cast<std::size_t>(k)].fit.type)
+                << " (" << run.result.segments[static_cast<std::size_t>(k)].indices.size()
+                << " points)";
+    std::cout << "\n";
+  }
+  return run;
+}
+
+TEST(Segmentation, SceneAtHalfPercentNoise) {
+  const SceneRun run = segmentScene(100000, 0.005, 0.0);
+  EXPECT_GE(run.score.mean_iou, 0.9);
+  EXPECT_NEAR(static_cast<double>(run.result.segments.size()), 10.0, 1.0);
+  for (std::size_t t = 0; t < run.score.truths; ++t) {
+    const int k = run.score.match[t];
+    ASSERT_GE(k, 0) << scenePrimitives()[t].name << " not found";
+    EXPECT_EQ(run.result.segments[static_cast<std::size_t>(k)].fit.type,
+              typeOf(scenePrimitives()[t].primitive))
+        << scenePrimitives()[t].name;
+  }
+}
+
+}  // namespace
+}  // namespace slipfit
