@@ -392,6 +392,8 @@ pcl::PCLPointCloud2 toBlob(const PointData& data) {
       add(f.name, Field::INT32, v->data(), sizeof(std::int32_t));
     else if (const auto* w = std::get_if<std::vector<float>>(&f.values))
       add(f.name, Field::FLOAT32, w->data(), sizeof(float));
+    else if (const auto* c = std::get_if<std::vector<std::uint8_t>>(&f.values))
+      add(f.name, Field::UINT8, c->data(), sizeof(std::uint8_t));
   }
   blob.row_step = blob.point_step * blob.width;
   blob.data.resize(static_cast<std::size_t>(blob.row_step));

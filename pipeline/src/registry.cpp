@@ -10,7 +10,8 @@ const std::vector<StageInfo>& stageRegistry() {
       adapters::torusSamplingInfo(),         adapters::primitiveSamplingInfo(),
       adapters::motionSurfaceSamplingInfo(), adapters::neighborhoodSelectionInfo(),
       adapters::normalEstimationInfo(),      adapters::slippageClassificationInfo(),
-      adapters::primitiveFittingInfo(),
+      adapters::primitiveFittingInfo(),      adapters::sceneSamplingInfo(),
+      adapters::segmentationInfo(),
   };
   return registry;
 }

@@ -171,6 +171,27 @@ bool mayMerge(const Primitive& a, const Primitive& b, double max_angle) {
   return !(pa && pb) || std::abs(pa->normal.dot(pb->normal)) >= std::cos(max_angle);
 }
 
+/// The segment's own slippage verdict, and its primitive as a second start of the refinement.
+void refineFromSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                        const Eigen::Ref<const Eigen::Matrix3Xd>& normals, Segment& s) {
+  const auto m = static_cast<Eigen::Index>(s.indices.size());
+  Eigen::Matrix3Xd p(3, m), n(3, m);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    p.col(j) = points.col(s.indices[static_cast<std::size_t>(j)]);
+    n.col(j) = normals.col(s.indices[static_cast<std::size_t>(j)]);
+  }
+  const Eigen::VectorXd w = Eigen::VectorXd::Ones(m);
+  s.slippage = analyzeSlippage(p, n, w);
+  if (!s.slippage->primitive || typeOf(*s.slippage->primitive) != s.fit.type)
+    return;
+  const Primitive start = refinePrimitive(*s.slippage->primitive, p, w, 100);
+  const double loss = weightedLoss(p, w, start);
+  if (loss < weightedLoss(p, w, s.fit.refined)) {
+    s.fit.refined = start;
+    s.fit.loss_refined = loss;
+  }
+}
+
 double rmsOf(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const std::vector<int>& members,
              const Primitive& primitive, double* max_distance) {
   double sum = 0.0, worst = 0.0;
@@ -378,8 +399,12 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
     Segment s;
     s.indices = std::move(regions[order[k]]);
     std::sort(s.indices.begin(), s.indices.end());
-    s.fit = std::move(fits[order[k]]);
+    // Refit on the final members (crease points joined after the last fit).
+    s.fit = grower.fit(fits[order[k]].type, s.indices);
+    if (!s.fit.ok())
+      s.fit = std::move(fits[order[k]]);
     s.seed_type = seed_types[order[k]];
+    refineFromSlippage(points, normals, s);
     s.rms_distance = rmsOf(points, s.indices, s.fit.refined, &s.max_distance);
     for (int i : s.indices)
       result.labels[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(k);

@@ -32,7 +32,7 @@ std::size_t filesIn(const std::string& dir) {
 
 TEST(Cli, DemoConfigRunsAndWritesOrientedNormals) {
   const std::string out = scratchDir("demo");
-  const CliResult r = runSlipfit("run configs/demo.yaml --set output.dir=" + out);
+  const CliResult r = runSlipfit("run configs/normals_demo.yaml --set output.dir=" + out);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.err, "");  // piped: no progress
   EXPECT_THAT(r.out, HasSubstr("input: sample_clouds/demo_scene.ply: 42000 points, normals: no"));
@@ -84,11 +84,11 @@ TEST(Cli, SameOutputForSameInputAndAnyThreadCount) {
 
 TEST(Cli, QuietPrintsNothingAndSetOverrides) {
   const std::string out = scratchDir("quiet");
-  CliResult r = runSlipfit("run configs/demo.yaml --quiet --set output.dir=" + out);
+  CliResult r = runSlipfit("run configs/normals_demo.yaml --quiet --set output.dir=" + out);
   EXPECT_EQ(r.code, 0);
   EXPECT_EQ(r.out + r.err, "");
   r = runSlipfit(
-      "run configs/demo.yaml --set neighborhoods.k=8 --set output.format=ascii --set output.dir=" +
+      "run configs/normals_demo.yaml --set neighborhoods.k=8 --set output.format=ascii --set output.dir=" +
       out);
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("sizes 8..8"));
@@ -111,9 +111,9 @@ TEST(Cli, StagesDescribeValidate) {
   r = runSlipfit("describe input");
   EXPECT_THAT(r.out, HasSubstr("  path  (string)  default: required"));
 
-  r = runSlipfit("validate configs/demo.yaml");
+  r = runSlipfit("validate configs/normals_demo.yaml");
   EXPECT_EQ(r.code, 0);
-  EXPECT_EQ(r.out, "configs/demo.yaml: valid, 3 stages\n");
+  EXPECT_EQ(r.out, "configs/normals_demo.yaml: valid, 3 stages\n");
 }
 
 struct ErrorCase {
@@ -216,7 +216,7 @@ TEST(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(runSlipfit("").code, 2);
   EXPECT_EQ(runSlipfit("frobnicate").code, 2);
   EXPECT_EQ(runSlipfit("run").code, 2);
-  EXPECT_EQ(runSlipfit("run configs/demo.yaml --sett x=1").code, 2);
+  EXPECT_EQ(runSlipfit("run configs/normals_demo.yaml --sett x=1").code, 2);
   CliResult r = runSlipfit("describe normal_estimaton");
   EXPECT_EQ(r.code, 2);
   EXPECT_THAT(r.err, HasSubstr("unknown stage 'normal_estimaton'; known stages: " +

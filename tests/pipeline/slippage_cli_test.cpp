@@ -63,7 +63,7 @@ TEST(SlippageCli, OneMotionSurfacesFromTheSurfaceSampler) {
 
 TEST(SlippageCli, DemoWritesPerPointSlippageFields) {
   const std::string out = scratchDir("demo_slippage");
-  const CliResult r = runSlipfit("run configs/demo.yaml --set output.dir=" + out);
+  const CliResult r = runSlipfit("run configs/normals_demo.yaml --set output.dir=" + out);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("local slippage: "));
   EXPECT_THAT(slurp(out + "/cloud.ply").substr(0, 3000),

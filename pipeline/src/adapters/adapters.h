@@ -12,5 +12,7 @@ StageInfo primitiveSamplingInfo();
 StageInfo motionSurfaceSamplingInfo();
 StageInfo primitiveFittingInfo();
 StageInfo slippageClassificationInfo();
+StageInfo sceneSamplingInfo();
+StageInfo segmentationInfo();
 
 }  // namespace slipfit::pipeline::adapters

@@ -44,6 +44,9 @@ struct Segment {
   SlippageType seed_type = SlippageType::none;  ///< the local slippage type of its seed
   double rms_distance = 0.0;                    ///< RMS point-to-surface distance
   double max_distance = 0.0;                    ///< largest point-to-surface distance
+  /// The slippage of the whole segment; its primitive was the second starting point of the
+  /// refinement (the better of the two is kept).
+  std::optional<SlippageResult> slippage;
 };
 
 struct SegmentationResult {

@@ -19,7 +19,7 @@ namespace slipfit::pipeline {
 /// One named per-point value written to the output PLY as a scalar property.
 struct PointField {
   std::string name;
-  std::variant<std::vector<std::int32_t>, std::vector<float>> values;
+  std::variant<std::vector<std::int32_t>, std::vector<float>, std::vector<std::uint8_t>> values;
 };
 
 /// Data capabilities a stage may require or produce (bit flags).

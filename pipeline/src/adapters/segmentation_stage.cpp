@@ -1,0 +1,227 @@
+#include "adapters.h"
+
+#include "slipfit/pipeline/cloud_io.h"
+#include "slipfit/pipeline/errors.h"
+#include "slipfit/pipeline/output_files.h"
+#include "slipfit/pipeline/primitives_report.h"
+#include "slipfit/segmentation.h"
+#include "slipfit/splat_renderer.h"
+
+#include <pcl/io/png_io.h>
+
+#include <array>
+#include <cmath>
+#include <ostream>
+
+namespace slipfit::pipeline::adapters {
+
+namespace {
+
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+
+// Twelve well separated colours (segment k gets entry k mod 12); unassigned points are grey.
+constexpr std::array<std::array<std::uint8_t, 3>, 12> kPalette{{{31, 119, 180},
+                                                                {255, 127, 14},
+                                                                {44, 160, 44},
+                                                                {214, 39, 40},
+                                                                {148, 103, 189},
+                                                                {140, 86, 75},
+                                                                {227, 119, 194},
+                                                                {188, 189, 34},
+                                                                {23, 190, 207},
+                                                                {255, 187, 120},
+                                                                {152, 223, 138},
+                                                                {197, 176, 213}}};
+constexpr std::array<std::uint8_t, 3> kUnassigned{170, 170, 170};
+
+class SegmentationStage : public Stage {
+ public:
+  void declare(OptionSet& o) override {
+    o.add("distance", parameters_.distance,
+          "Largest point-to-primitive distance of a member (unset: 3 × the median local noise + "
+          "¼ of the median spacing).")
+        .unit("units")
+        .above(0);
+    o.add("max_angle", max_angle_, "Largest angle between a member's normal and the primitive's.")
+        .unit("deg")
+        .range(0.1, 90);
+    o.add("min_points", min_points_, "Smallest segment (unset: max(30, N / 500)).")
+        .unit("points")
+        .range(3, 1e9);
+    o.add("merge_factor", parameters_.merge_factor,
+          "Adjacent segments merge when the best fit of their union has an RMS distance at most "
+          "this factor times the larger of theirs.")
+        .range(1, 10);
+    o.add("report", report_, "File name of the YAML report (one entry per segment).");
+    o.add("segments", segments_,
+          "File name of the PLY of every point with label, primitive and red/green/blue.");
+    o.add("segment_files", segment_files_, "Also write each segment as segment_<label>.ply.");
+    o.add("render", render_, "File name of a PNG picture of the segments (empty: none).");
+    o.add("view_direction", view_direction_,
+          "Render: direction from the scene's centre towards the camera.");
+    o.add("eye", eye_, "Render: camera position (unset: along view_direction, framing the cloud).")
+        .unit("units");
+    o.add("image_width", image_width_, "Render: width.").unit("pixels").range(16, 8192);
+    o.add("image_height", image_height_, "Render: height.").unit("pixels").range(16, 8192);
+  }
+
+  void prepare() override {
+    parameters_.max_angle = max_angle_ * kDegree;
+    if (min_points_)
+      parameters_.min_points = static_cast<std::size_t>(*min_points_);
+    parameters_.validate();
+    render_parameters_.width = image_width_;
+    render_parameters_.height = image_height_;
+    render_parameters_.view_direction = view_direction_.cast<double>();
+    if (eye_)
+      render_parameters_.eye = eye_->cast<double>();
+    render_parameters_.validate();
+  }
+
+  DataFlow flow() const override { return {kPoints | kNormals | kNeighborhoods, 0u}; }
+
+  void run(PointData& data, RunContext& context) override {
+    const std::vector<double> local = data.numericField("slippage_type");
+    if (local.size() != data.size())
+      throw RunError(
+          "segmentation needs the per-point field 'slippage_type': run slippage_classification "
+          "with mode: local before it");
+    if (!context.outputs)
+      throw RunError("no output directory for the segmentation outputs");
+    const auto n = static_cast<Eigen::Index>(data.size());
+    Eigen::Matrix3Xd x(3, n), nn(3, n);
+    std::vector<SlippageType> types(data.size());
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto& p = (*data.cloud)[static_cast<std::size_t>(i)];
+      x.col(i) = p.getVector3fMap().cast<double>();
+      nn.col(i) = p.getNormalVector3fMap().cast<double>();
+      types[static_cast<std::size_t>(i)] =
+          static_cast<SlippageType>(static_cast<int>(local[static_cast<std::size_t>(i)]));
+    }
+    if (!x.allFinite())
+      throw RunError("segmentation: some points are not finite");
+    const SegmentationResult result =
+        segmentBySlippage(x, nn, *data.neighborhoods, types, parameters_);
+
+    std::vector<std::int32_t> primitive(data.size(), -1);
+    std::vector<std::uint8_t> red(data.size()), green(data.size()), blue(data.size());
+    for (std::size_t i = 0; i < data.size(); ++i) {
+      const std::int32_t label = result.labels[i];
+      const auto& c = label < 0 ? kUnassigned : kPalette[static_cast<std::size_t>(label) % 12];
+      red[i] = c[0];
+      green[i] = c[1];
+      blue[i] = c[2];
+      if (label >= 0)
+        primitive[i] =
+            static_cast<std::int32_t>(result.segments[static_cast<std::size_t>(label)].fit.type);
+    }
+    data.setField({"label", result.labels});
+    data.setField({"primitive", std::move(primitive)});
+    data.setField({"red", std::move(red)});
+    data.setField({"green", std::move(green)});
+    data.setField({"blue", std::move(blue)});
+
+    writeReport(result, x, context);
+    writeClouds(data, result, context);
+    if (!render_.empty())
+      writeRender(data, context);
+
+    std::size_t assigned = 0;
+    for (const auto& s : result.segments)
+      assigned += s.indices.size();
+    context.report << "segmentation: " << result.segments.size() << " segments, " << assigned << "/"
+                   << data.size() << " points assigned (distance " << result.distance << ", "
+                   << result.merges << " merges)\n";
+    for (std::size_t k = 0; k < result.segments.size() && k < 20; ++k) {
+      const Segment& s = result.segments[k];
+      context.report << "  segment " << k << ": " << primitiveTypeName(s.fit.type) << ", "
+                     << s.indices.size() << " points, rms " << s.rms_distance << "\n";
+    }
+  }
+
+ private:
+  void writeReport(const SegmentationResult& result, const Eigen::Matrix3Xd& x,
+                   RunContext& context) const {
+    std::vector<PrimitiveRecord> records;
+    for (std::size_t k = 0; k < result.segments.size(); ++k) {
+      const Segment& s = result.segments[k];
+      PrimitiveRecord r;
+      r.id = static_cast<int>(k);
+      r.label = static_cast<int>(k);
+      r.fit = s.fit;
+      r.fit.rms_distance = s.rms_distance;
+      r.fit.max_distance = s.max_distance;
+      r.fit.used_points = s.indices.size();
+      r.slippage = s.slippage;
+      r.inlier_distance = result.distance;
+      for (int i : s.indices)
+        r.inliers += distance(x.col(i), s.fit.refined) <= result.distance ? 1 : 0;
+      r.extra["points"] = std::to_string(s.indices.size());
+      r.extra["seed_slippage_type"] = std::string(slippageTypeName(s.seed_type));
+      records.push_back(std::move(r));
+    }
+    context.outputs->addText(report_, primitivesYaml(records, "slipfit segmentation"));
+  }
+
+  void writeClouds(const PointData& data, const SegmentationResult& result,
+                   RunContext& context) const {
+    PointData view;
+    view.cloud = data.cloud;
+    view.has_normals = true;
+    for (const char* name : {"label", "primitive", "red", "green", "blue"})
+      view.setField(*data.field(name));
+    context.outputs->add(segments_,
+                         [&](const std::string& path) { writeCloudPly(view, path, true); });
+    if (!segment_files_)
+      return;
+    for (std::size_t k = 0; k < result.segments.size(); ++k) {
+      PointData part;
+      part.has_normals = true;
+      for (int i : result.segments[k].indices)
+        part.cloud->push_back((*data.cloud)[static_cast<std::size_t>(i)]);
+      context.outputs->add("segment_" + std::to_string(k) + ".ply",
+                           [&](const std::string& path) { writeCloudPly(part, path, true); });
+    }
+  }
+
+  void writeRender(const PointData& data, RunContext& context) const {
+    const auto n = static_cast<Eigen::Index>(data.size());
+    Eigen::Matrix3Xf x(3, n), nn(3, n);
+    Eigen::Matrix<std::uint8_t, 3, Eigen::Dynamic> rgb(3, n);
+    const auto& red = std::get<std::vector<std::uint8_t>>(data.field("red")->values);
+    const auto& green = std::get<std::vector<std::uint8_t>>(data.field("green")->values);
+    const auto& blue = std::get<std::vector<std::uint8_t>>(data.field("blue")->values);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      x.col(i) = (*data.cloud)[u].getVector3fMap();
+      nn.col(i) = (*data.cloud)[u].getNormalVector3fMap();
+      rgb.col(i) << red[u], green[u], blue[u];
+    }
+    const std::vector<std::uint8_t> image = renderSplats(x, rgb, nn, render_parameters_);
+    context.outputs->add(render_, [&](const std::string& path) {
+      pcl::io::saveRgbPNGFile(path, image.data(), render_parameters_.width,
+                              render_parameters_.height);
+    });
+  }
+
+  SegmentationParameters parameters_;
+  RenderParameters render_parameters_;
+  double max_angle_ = 30.0;
+  std::optional<int> min_points_;
+  std::string report_ = "primitives.yaml", segments_ = "segments.ply", render_ = "segments.png";
+  bool segment_files_ = false;
+  Eigen::Vector3f view_direction_ = Eigen::Vector3f(1.0f, -1.3f, 1.1f);
+  std::optional<Eigen::Vector3f> eye_;
+  int image_width_ = 1024, image_height_ = 768;
+};
+
+}  // namespace
+
+StageInfo segmentationInfo() {
+  return {"segmentation",
+          "segments the cloud into planes, spheres, cylinders and cones by region growing from "
+          "the local slippage; writes primitives.yaml, segments.ply and a PNG picture",
+          [] { return std::unique_ptr<Stage>(new SegmentationStage); }};
+}
+
+}  // namespace slipfit::pipeline::adapters

@@ -1,0 +1,115 @@
+// configs/demo.yaml (the whole pipeline on sample_clouds/scene.ply): segments, types, the PLY
+// fields and the PNG, scored against the true labels that the shipped scene carries; and
+// byte-identical outputs across runs and thread counts.
+#include "run_cli.h"
+#include "slipfit/pipeline/cloud_io.h"
+#include "slipfit/segmentation_metrics.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <map>
+
+namespace slipfit::testing {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::vector<std::int32_t> intField(const pipeline::PointData& data, const std::string& name) {
+  const std::vector<double> v = data.numericField(name);
+  std::vector<std::int32_t> out(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i)
+    out[i] = static_cast<std::int32_t>(v[i]);
+  return out;
+}
+
+TEST(SegmentationCli, DemoFindsTheSceneAndWritesEveryOutput) {
+  const std::string out = scratchDir("demo_segments");
+  const CliResult r = runSlipfit("run configs/demo.yaml --set output.dir=" + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("segmentation: "));
+
+  // The report: one entry per segment with the fitting fields; the shipped scene has seven
+  // planes (ground, box top and four sides, cylinder top), a sphere, a cylinder and a cone.
+  const YAML::Node report = YAML::LoadFile(out + "/primitives.yaml")["primitives"];
+  std::map<std::string, int> types;
+  for (const auto& p : report) {
+    ++types[p["type"].as<std::string>()];
+    EXPECT_EQ(p["status"].as<std::string>(), "ok");
+    EXPECT_LT(p["rms_distance"].as<double>(), 0.0075);  // the scene's σ is 0.005
+  }
+  EXPECT_NEAR(static_cast<double>(report.size()), 10.0, 1.0);
+  EXPECT_EQ(types["sphere"], 1);
+  EXPECT_EQ(types["cylinder"], 1);
+  EXPECT_EQ(types["cone"], 1);
+  EXPECT_NEAR(types["plane"], 7, 1);
+
+  // segments.ply: every input point, with normals, label, primitive and colour.
+  const std::string head = slurp(out + "/segments.ply").substr(0, 1000);
+  EXPECT_THAT(head,
+              ::testing::AllOf(HasSubstr("element vertex 50000"), HasSubstr("property float nx"),
+                               HasSubstr("property int label"), HasSubstr("property int primitive"),
+                               HasSubstr("property uchar red"), HasSubstr("property uchar blue")));
+  // cloud.ply keeps the input's truth_label next to the label: score the segmentation with it.
+  const auto cloud = pipeline::readCloud(out + "/cloud.ply", pipeline::NanPolicy::error);
+  const std::vector<std::int32_t> truth = intField(cloud, "truth_label");
+  const std::vector<std::int32_t> label = intField(cloud, "label");
+  ASSERT_EQ(truth.size(), 50000u);
+  ASSERT_EQ(label.size(), 50000u);
+  const SegmentationScore score = scoreSegmentation(truth, label);
+  std::cout << "demo: mean IoU " << score.mean_iou << ", point accuracy " << score.point_accuracy
+            << "\n";
+  EXPECT_GE(score.mean_iou, 0.9);
+
+  // The picture: a PNG of the configured size.
+  const std::string png = slurp(out + "/segments.png");
+  ASSERT_GT(png.size(), 24u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  const auto be32 = [&](std::size_t at) {
+    return (static_cast<unsigned>(static_cast<unsigned char>(png[at])) << 24) |
+           (static_cast<unsigned>(static_cast<unsigned char>(png[at + 1])) << 16) |
+           (static_cast<unsigned>(static_cast<unsigned char>(png[at + 2])) << 8) |
+           static_cast<unsigned>(static_cast<unsigned char>(png[at + 3]));
+  };
+  EXPECT_EQ(be32(16), 1024u);
+  EXPECT_EQ(be32(20), 768u);
+}
+
+TEST(SegmentationCli, SameOutputsAcrossRunsAndThreadCounts) {
+  const std::string a = scratchDir("seg_det_a"), b = scratchDir("seg_det_b");
+  ASSERT_EQ(runSlipfit("run configs/demo.yaml --quiet --set threads=1 --set output.dir=" + a).code,
+            0);
+  ASSERT_EQ(runSlipfit("run configs/demo.yaml --quiet --set threads=2 --set output.dir=" + b).code,
+            0);
+  for (const char* file : {"cloud.ply", "segments.ply", "primitives.yaml", "segments.png"}) {
+    const std::string x = slurp(a + "/" + file);
+    EXPECT_GT(x.size(), 1000u) << file;
+    EXPECT_TRUE(x == slurp(b + "/" + file)) << file << " differs";
+  }
+}
+
+TEST(SegmentationCli, NeedsTheLocalSlippageFields) {
+  const std::string out = scratchDir("seg_no_slippage");
+  const std::string cfg =
+      scratchFile("seg_no_slippage.yaml", "input: {path: " + std::string(kSourceDir) +
+                                              "/sample_clouds/scene.ply}\n"
+                                              "stages:\n"
+                                              "  - {type: neighborhood_selection, k: 20}\n"
+                                              "  - {type: normal_estimation}\n"
+                                              "  - {type: segmentation}\n"
+                                              "output: {dir: " +
+                                              out + "}\n");
+  const CliResult r = runSlipfit("run " + cfg);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_THAT(r.err, HasSubstr("slippage_type"));
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+  EXPECT_FALSE(std::filesystem::exists(out + "/segments.ply"));
+}
+
+}  // namespace
+}  // namespace slipfit::testing
