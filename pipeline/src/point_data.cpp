@@ -146,4 +146,37 @@ void PointData::keepOnly(const std::vector<char>& keep) {
   }
 }
 
+void PointData::expandToFull() {
+  if (!full)
+    return;
+  PointData out = std::move(*full);
+  const std::size_t n = out.size();
+  if (has_normals) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (representative[i] < 0)
+        continue;  // a non-finite input point keeps its NaN normal
+      const auto& r = (*cloud)[static_cast<std::size_t>(representative[i])];
+      auto& p = (*out.cloud)[i];
+      p.getNormalVector3fMap() = r.getNormalVector3fMap();
+      p.curvature = r.curvature;
+    }
+    out.has_normals = true;
+    out.has_curvature = has_curvature;
+  }
+  for (const auto& f : fields) {
+    PointField expanded{f.name, {}};
+    std::visit(
+        [&](const auto& v) {
+          std::decay_t<decltype(v)> w(n);
+          for (std::size_t i = 0; i < n; ++i)
+            if (representative[i] >= 0)
+              w[i] = v[static_cast<std::size_t>(representative[i])];
+          expanded.values = std::move(w);
+        },
+        f.values);
+    out.setField(std::move(expanded));
+  }
+  *this = std::move(out);
+}
+
 }  // namespace slipfit::pipeline

@@ -7,11 +7,11 @@ namespace slipfit::pipeline {
 const std::vector<StageInfo>& stageRegistry() {
   // The one list of stages, in the order a pipeline usually runs them.
   static const std::vector<StageInfo> registry = {
-      adapters::torusSamplingInfo(),         adapters::primitiveSamplingInfo(),
-      adapters::motionSurfaceSamplingInfo(), adapters::neighborhoodSelectionInfo(),
-      adapters::normalEstimationInfo(),      adapters::slippageClassificationInfo(),
-      adapters::primitiveFittingInfo(),      adapters::sceneSamplingInfo(),
-      adapters::segmentationInfo(),
+      adapters::torusSamplingInfo(),          adapters::primitiveSamplingInfo(),
+      adapters::motionSurfaceSamplingInfo(),  adapters::subsampleInfo(),
+      adapters::neighborhoodSelectionInfo(),  adapters::normalEstimationInfo(),
+      adapters::slippageClassificationInfo(), adapters::primitiveFittingInfo(),
+      adapters::sceneSamplingInfo(),          adapters::segmentationInfo(),
   };
   return registry;
 }

@@ -6,10 +6,25 @@
 
 #include <pcl/exceptions.h>
 
+#include <sys/resource.h>
+
+#include <chrono>
+#include <iomanip>
 #include <ostream>
 #include <sstream>
 
 namespace slipfit::pipeline {
+
+namespace {
+
+/// The process's peak resident set so far (Linux reports ru_maxrss in KiB).
+long peakMegabytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024;
+}
+
+}  // namespace
 
 namespace {
 /// Swallows everything (for --quiet).
@@ -56,6 +71,7 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
     RunContext context{progress, stage_report, config.settings.threads, config.settings.seed,
                        &outputs};
     progress.begin(i + 2, steps, s.tag + " (" + s.type + ")");
+    const auto start = std::chrono::steady_clock::now();
     try {
       s.stage->run(data, context);
     } catch (const RunError& e) {
@@ -67,8 +83,13 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
     }
     progress.end();
     report << stage_report.str();
+    report << "  " << s.tag << ": " << std::fixed << std::setprecision(2)
+           << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
+           << " s, peak memory " << peakMegabytes() << " MB\n"
+           << std::defaultfloat;
   }
 
+  data.expandToFull();  // a subsampled analysis is written for every input point
   progress.begin(steps, steps, "write " + config.output.dir);
   outputs.add(config.output.cloud, [&](const std::string& path) {
     writeCloudPly(data, path, config.output.format == PlyEncoding::binary);

@@ -52,8 +52,12 @@ double median(std::vector<double> v) {
 
 /// The tolerance from the data: the local noise is √λ₀ of each neighborhood's covariance (the
 /// spread off its best plane), the spacing the distance to the nearest other point.
-double defaultDistance(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
-                       const Neighborhoods& hoods) {
+struct DataScale {
+  double noise = 0.0;    ///< median √λ₀ of the neighborhoods
+  double spacing = 0.0;  ///< median nearest-neighbor distance
+};
+
+DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neighborhoods& hoods) {
   std::vector<double> noise, spacing;
   const std::size_t n = hoods.size();
   const std::size_t stride = std::max<std::size_t>(1, n / 20000);  // a sample is enough
@@ -76,8 +80,10 @@ double defaultDistance(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
         std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly)
                           .eigenvalues()(0))));
   }
-  return 3.0 * median(noise) + 0.25 * median(spacing);
+  return {median(std::move(noise)), median(std::move(spacing))};
 }
+
+constexpr std::size_t kSubset = 20000;
 
 class Grower {
  public:
@@ -98,24 +104,28 @@ class Grower {
     return std::abs(surfaceNormal(p, primitive).dot(normals_.col(i))) >= cos_angle_;
   }
 
-  FitResult fit(PrimitiveType type, const std::vector<int>& members) const {
-    const auto m = static_cast<Eigen::Index>(members.size());
-    Eigen::Matrix3Xd p(3, m), n(3, m);
-    for (Eigen::Index j = 0; j < m; ++j) {
-      p.col(j) = points_.col(members[static_cast<std::size_t>(j)]);
-      n.col(j) = normals_.col(members[static_cast<std::size_t>(j)]);
-    }
-    return fitPrimitive(type, p, n, Eigen::VectorXd::Ones(m));
+  /// Fits \a type to the members; with \a all false, to an evenly strided subset of at most
+  /// kSubset of them (statistically plenty while a region grows or merges: the final fit of each
+  /// segment uses every member).
+  FitResult fit(PrimitiveType type, const std::vector<int>& members, bool all = false) const {
+    Eigen::Matrix3Xd p, n;
+    gather(members, all, p, n);
+    return fitPrimitive(type, p, n, Eigen::VectorXd::Ones(p.cols()));
   }
 
   FitResult fitBest(const std::vector<int>& members) const {
-    const auto m = static_cast<Eigen::Index>(members.size());
-    Eigen::Matrix3Xd p(3, m), n(3, m);
-    for (Eigen::Index j = 0; j < m; ++j) {
-      p.col(j) = points_.col(members[static_cast<std::size_t>(j)]);
-      n.col(j) = normals_.col(members[static_cast<std::size_t>(j)]);
-    }
-    return fitAuto(p, n, Eigen::VectorXd::Ones(m));
+    Eigen::Matrix3Xd p, n;
+    gather(members, false, p, n);
+    return fitAuto(p, n, Eigen::VectorXd::Ones(p.cols()));
+  }
+
+  /// Median distance of the (strided) members to \a primitive.
+  double medianDistance(const std::vector<int>& members, const Primitive& primitive) const {
+    const std::size_t stride = std::max<std::size_t>(1, members.size() / kSubset);
+    std::vector<double> d;
+    for (std::size_t j = 0; j < members.size(); j += stride)
+      d.push_back(distance(points_.col(members[j]), primitive));
+    return median(std::move(d));
   }
 
   /// Grows from \a members (kept) over unlabelled points accepted by the fit, refitting each
@@ -145,6 +155,19 @@ class Grower {
       }
     }
     return fit;
+  }
+
+  void gather(const std::vector<int>& members, bool all, Eigen::Matrix3Xd& p,
+              Eigen::Matrix3Xd& n) const {
+    const std::size_t stride = all ? 1 : std::max<std::size_t>(1, members.size() / kSubset);
+    const auto m = static_cast<Eigen::Index>((members.size() + stride - 1) / stride);
+    p.resize(3, m);
+    n.resize(3, m);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const int i = members[static_cast<std::size_t>(j) * stride];
+      p.col(j) = points_.col(i);
+      n.col(j) = normals_.col(i);
+    }
   }
 
   /// Keeps the members the fit accepts.
@@ -223,7 +246,9 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
     throw DegenerateInputError("segmentation: some normals are missing (NaN)");
 
   SegmentationResult result;
-  result.distance = parameters.distance.value_or(defaultDistance(points, hoods));
+  const DataScale scale = dataScale(points, hoods);
+  result.noise = scale.noise;
+  result.distance = parameters.distance.value_or(3.0 * scale.noise + 0.25 * scale.spacing);
   if (!(result.distance > 0.0))
     throw DegenerateInputError(
         "segmentation: cannot derive a distance tolerance (all points coincide); set distance");
@@ -273,8 +298,14 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
     fit = grower.grow(type, members, std::move(fit), result.labels);
     // The seed's local type can be wrong (a cone patch reads as a cylinder): refit the grown
     // region with the best type and, if it changes, grow again from the region with that type.
-    FitResult best = grower.fitBest(members);
-    if (best.ok() && best.type != type) {
+    // The local evidence stands unless another type fits clearly better, by the median distance
+    // (a BIC margin, or the RMS, lets a wide sphere absorb the crease points of a plane).
+    const double current = grower.medianDistance(members, fit.refined);
+    FitResult best;
+    if (current > result.noise)  // a Gaussian's median |d| is 0.67 σ: this model explains the data
+      best = grower.fitBest(members);
+    if (current > result.noise && best.ok() && best.type != type &&
+        grower.medianDistance(members, best.refined) < 0.75 * current) {
       grower.prune(members, best.refined);
       if (!members.empty())
         fit = grower.grow(best.type, members, std::move(best), result.labels);
@@ -357,8 +388,8 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
 
   // Points left over at creases (where estimated normals blur) join the adjacent region whose
   // primitive is nearest, when within the distance tolerance; the normal test is waived.
-  for (bool assigned = true; assigned;) {
-    assigned = false;
+  for (int pass = 0, assigned = 1; assigned && pass < 2; ++pass) {
+    assigned = 0;
     std::vector<std::pair<int, std::int32_t>> joins;
     for (std::size_t i = 0; i < n; ++i) {
       if (result.labels[i] >= 0)
@@ -382,7 +413,7 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
     for (const auto& [i, label] : joins) {
       result.labels[static_cast<std::size_t>(i)] = label;
       regions[static_cast<std::size_t>(label)].push_back(i);
-      assigned = true;
+      assigned = 1;
     }
   }
 
@@ -400,7 +431,7 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
     s.indices = std::move(regions[order[k]]);
     std::sort(s.indices.begin(), s.indices.end());
     // Refit on the final members (crease points joined after the last fit).
-    s.fit = grower.fit(fits[order[k]].type, s.indices);
+    s.fit = grower.fit(fits[order[k]].type, s.indices, true);
     if (!s.fit.ok())
       s.fit = std::move(fits[order[k]]);
     s.seed_type = seed_types[order[k]];

@@ -149,5 +149,19 @@ TEST(Segmentation, SceneAtHalfPercentNoise) {
   }
 }
 
+// 1 % noise and 10 % outliers: every primitive still found with its type; the outliers stay
+// unassigned (they are not counted against the IoU of any true primitive only when left out).
+TEST(Segmentation, SceneAtOnePercentNoiseWithOutliers) {
+  const SceneRun run = segmentScene(100000, 0.01, 0.1);
+  EXPECT_GE(run.score.mean_iou, 0.85);
+  for (std::size_t t = 0; t < run.score.truths; ++t) {
+    const int k = run.score.match[t];
+    ASSERT_GE(k, 0) << scenePrimitives()[t].name << " not found";
+    EXPECT_EQ(run.result.segments[static_cast<std::size_t>(k)].fit.type,
+              typeOf(scenePrimitives()[t].primitive))
+        << scenePrimitives()[t].name;
+  }
+}
+
 }  // namespace
 }  // namespace slipfit

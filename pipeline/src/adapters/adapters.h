@@ -14,5 +14,6 @@ StageInfo primitiveFittingInfo();
 StageInfo slippageClassificationInfo();
 StageInfo sceneSamplingInfo();
 StageInfo segmentationInfo();
+StageInfo subsampleInfo();
 
 }  // namespace slipfit::pipeline::adapters

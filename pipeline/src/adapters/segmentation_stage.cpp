@@ -100,8 +100,9 @@ class SegmentationStage : public Stage {
     }
     if (!x.allFinite())
       throw RunError("segmentation: some points are not finite");
-    const SegmentationResult result =
-        segmentBySlippage(x, nn, *data.neighborhoods, types, parameters_);
+    SegmentationResult result = segmentBySlippage(x, nn, *data.neighborhoods, types, parameters_);
+    if (data.full)
+      carryToFull(data, result, x);
 
     std::vector<std::int32_t> primitive(data.size(), -1);
     std::vector<std::uint8_t> red(data.size()), green(data.size()), blue(data.size());
@@ -140,6 +141,57 @@ class SegmentationStage : public Stage {
   }
 
  private:
+  /// The analysis ran on a subsample: every input point takes, among the segments of its
+  /// representative and of the representative's neighbors, the one whose primitive is nearest,
+  /// when within the distance tolerance (else −1); the segments' members and distances are then
+  /// those of the full cloud (the fits stay the analysis fits).
+  static void carryToFull(PointData& data, SegmentationResult& result, Eigen::Matrix3Xd& x) {
+    const std::vector<std::int32_t> representative = data.representative;
+    const std::shared_ptr<const Neighborhoods> hoods = data.neighborhoods;
+    const std::vector<std::int32_t> analysis_labels = result.labels;
+    data.expandToFull();
+    const auto n = static_cast<Eigen::Index>(data.size());
+    x.resize(3, n);
+    std::vector<std::int32_t> labels(data.size(), -1);
+    for (auto& s : result.segments)
+      s.indices.clear();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      x.col(i) = (*data.cloud)[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();
+      const std::int32_t r = representative[static_cast<std::size_t>(i)];
+      if (r < 0)
+        continue;
+      double best = result.distance;
+      std::int32_t label = -1;
+      for (pcl::index_t j : (*hoods)[static_cast<std::size_t>(r)]) {
+        const std::int32_t candidate = analysis_labels[static_cast<std::size_t>(j)];
+        if (candidate < 0 || candidate == label)
+          continue;
+        const double d =
+            distance(x.col(i), result.segments[static_cast<std::size_t>(candidate)].fit.refined);
+        if (d <= best) {
+          best = d;
+          label = candidate;
+        }
+      }
+      if (label < 0)
+        continue;
+      labels[static_cast<std::size_t>(i)] = label;
+      result.segments[static_cast<std::size_t>(label)].indices.push_back(static_cast<int>(i));
+    }
+    result.labels = std::move(labels);
+    for (auto& s : result.segments) {
+      double sum = 0.0;
+      s.max_distance = 0.0;
+      for (int i : s.indices) {
+        const double d = distance(x.col(i), s.fit.refined);
+        sum += d * d;
+        s.max_distance = std::max(s.max_distance, d);
+      }
+      s.rms_distance =
+          s.indices.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(s.indices.size()));
+    }
+  }
+
   void writeReport(const SegmentationResult& result, const Eigen::Matrix3Xd& x,
                    RunContext& context) const {
     std::vector<PrimitiveRecord> records;
@@ -151,7 +203,7 @@ class SegmentationStage : public Stage {
       r.fit = s.fit;
       r.fit.rms_distance = s.rms_distance;
       r.fit.max_distance = s.max_distance;
-      r.fit.used_points = s.indices.size();
+      r.fit.used_points = s.fit.used_points;  // the points the fit saw (the analysis points)
       r.slippage = s.slippage;
       r.inlier_distance = result.distance;
       for (int i : s.indices)

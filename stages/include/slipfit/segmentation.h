@@ -53,6 +53,7 @@ struct SegmentationResult {
   std::vector<std::int32_t> labels;  ///< per point: segment index, −1 unassigned
   std::vector<Segment> segments;     ///< largest first
   double distance = 0.0;             ///< the distance tolerance used
+  double noise = 0.0;                ///< the noise estimate (median √λ₀ of the neighborhoods)
   double max_angle = 0.0;            ///< the angle tolerance used, radians
   std::size_t min_points = 0;        ///< the smallest segment allowed
   std::size_t regions_grown = 0;     ///< seeds that were grown (kept or not)

@@ -43,6 +43,11 @@ struct PointData {
   /// Neighborhoods of every point, shared by later stages (kNeighborhoods).
   std::shared_ptr<const Neighborhoods> neighborhoods;
 
+  /// Set by the subsample stage: the full-resolution data this (analysis) data stands for, and
+  /// for each full point the index of its representative here.
+  std::shared_ptr<PointData> full;
+  std::vector<std::int32_t> representative;
+
   std::size_t size() const { return cloud->size(); }
   unsigned available() const {
     return kPoints | (has_normals ? kNormals : 0u) | (neighborhoods ? kNeighborhoods : 0u);
@@ -56,6 +61,10 @@ struct PointData {
   /// Keeps the points with keep[i] != 0, in order, in every per-point array; neighbor lists lose
   /// the removed points and are renumbered.
   void keepOnly(const std::vector<char>& keep);
+  /// Replaces analysis data by its full-resolution data (no-op without `full`): coordinates and
+  /// the input's fields from `full`, normals, curvature and stage fields copied from each point's
+  /// representative. Neighborhoods are dropped (they belonged to the analysis points).
+  void expandToFull();
 };
 
 /// "points", "normals, neighborhoods" ...

@@ -1,0 +1,83 @@
+#include "adapters.h"
+
+#include "slipfit/pipeline/errors.h"
+#include "slipfit/voxel_sampling.h"
+
+#include <array>
+#include <ostream>
+#include <string>
+
+namespace slipfit::pipeline::adapters {
+
+namespace {
+
+enum class Mode { random, voxel };
+constexpr std::array<std::pair<Mode, std::string_view>, 2> kModeNames{{
+    {Mode::random, "random"},
+    {Mode::voxel, "voxel"},
+}};
+
+class SubsampleStage : public Stage {
+ public:
+  void declare(OptionSet& o) override {
+    o.add("mode", mode_, kModeNames,
+          "random: each point kept with probability points / N (seeded; outliers keep their "
+          "proportion), represented by a kept point of its grid cell; voxel: one point per voxel "
+          "(even "
+          "density, but every isolated outlier survives).");
+    o.add("points", points_,
+          "Keep about this many points, one per voxel (the leaf is found in a few passes).")
+        .unit("points")
+        .range(100, 1e9);
+    o.add("leaf", leaf_, "Voxel mode: voxel edge; overrides points.").unit("units").above(0);
+  }
+
+  DataFlow flow() const override { return {kPoints, 0u}; }
+
+  void run(PointData& data, RunContext& context) override {
+    if (data.full)
+      throw RunError("the cloud is already subsampled");
+    const auto n = static_cast<Eigen::Index>(data.size());
+    Eigen::Matrix3Xf x(3, n);
+    for (Eigen::Index i = 0; i < n; ++i)
+      x.col(i) = (*data.cloud)[static_cast<std::size_t>(i)].getVector3fMap();
+    const auto target = static_cast<std::size_t>(points_);
+    const VoxelSampling s = mode_ == Mode::random
+                                ? randomSample(x, target, context.seed)
+                                : (leaf_ ? voxelSample(x, *leaf_) : voxelSampleTo(x, target));
+    if (s.kept.size() == data.size()) {
+      context.report << "subsample: " << data.size() << " points, none dropped\n";
+      return;
+    }
+    auto full = std::make_shared<PointData>(data);
+    full->cloud = std::make_shared<pcl::PointCloud<pcl::PointNormal>>(*data.cloud);  // own copy
+    full->neighborhoods.reset();
+    std::vector<char> keep(data.size(), 0);
+    for (std::int32_t k : s.kept)
+      keep[static_cast<std::size_t>(k)] = 1;
+    data.keepOnly(keep);
+    data.full = std::move(full);
+    data.representative = s.representative;
+    context.report << "subsample: " << data.size() << " of " << data.full->size()
+                   << " points analysed ("
+                   << (mode_ == Mode::random ? std::string("random")
+                                             : "voxel " + std::to_string(s.leaf))
+                   << "); results are carried back to every point\n";
+  }
+
+ private:
+  Mode mode_ = Mode::random;
+  int points_ = 150000;
+  std::optional<double> leaf_;
+};
+
+}  // namespace
+
+StageInfo subsampleInfo() {
+  return {"subsample",
+          "one point per voxel for the analysis stages that follow; their results (normals, "
+          "fields, segments) are carried back to every input point at the end",
+          [] { return std::unique_ptr<Stage>(new SubsampleStage); }};
+}
+
+}  // namespace slipfit::pipeline::adapters
