@@ -13,6 +13,8 @@
 // tuned: the best setting found for these scenes (see bench/README.md).
 #include "slipfit/pipeline/cloud_io.h"
 
+#include <pcl/io/ply_io.h>
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Shape_detection/Efficient_RANSAC.h>
 #include <CGAL/pca_estimate_normals.h>
@@ -60,22 +62,33 @@ int main(int argc, char** argv) {
   const std::string setting = argc > 3 ? argv[3] : "default";
   const unsigned seed = argc > 4 ? static_cast<unsigned>(std::stoul(argv[4])) : 1u;
   const std::string normals = argc > 5 ? argv[5] : "given";
-  slipfit::pipeline::PointData data =
-      slipfit::pipeline::readCloud(argv[1], slipfit::pipeline::NanPolicy::error);
-  if (normals == "given" && !data.has_normals) {
-    std::cerr << "cgal_ransac: " << argv[1] << " has no normals\n";
+  // PCL's reader: slipfit's outputs mark points that were not analysed with NaN normals, which
+  // slipfit's own reader rejects; such points are left out of CGAL's input (label −1).
+  slipfit::pipeline::PointData data;
+  if (pcl::io::loadPLYFile(argv[1], *data.cloud) < 0) {
+    std::cerr << "cgal_ransac: cannot read " << argv[1] << "\n";
     return 1;
   }
+  data.has_normals = true;
   PointVector points;
   points.reserve(data.size());
   Eigen::AlignedBox3f box;
-  for (const auto& p : data.cloud->points) {
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const auto& p = (*data.cloud)[i];
+    if (!p.getVector3fMap().allFinite() ||
+        (normals == "given" && !p.getNormalVector3fMap().allFinite()))
+      continue;
     points.emplace_back(Kernel::Point_3(p.x, p.y, p.z),
-                        Kernel::Vector_3(p.normal_x, p.normal_y, p.normal_z), points.size());
+                        Kernel::Vector_3(p.normal_x, p.normal_y, p.normal_z), i);
     box.extend(p.getVector3fMap());
+  }
+  if (points.empty()) {
+    std::cerr << "cgal_ransac: " << argv[1] << " has no points with normals\n";
+    return 1;
   }
   const double diagonal = box.diagonal().norm();
   const auto n = points.size();
+  const std::size_t total = data.size();
 
   CGAL::get_default_random() = CGAL::Random(seed);
   const auto start = std::chrono::steady_clock::now();
@@ -121,7 +134,7 @@ int main(int argc, char** argv) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  std::vector<std::int32_t> label(n, -1), primitive(n, -1);
+  std::vector<std::int32_t> label(total, -1), primitive(total, -1);
   std::ostringstream yaml;
   yaml << "source: CGAL Efficient_RANSAC (" << setting << ")\nprimitives:\n";
   int id = 0;

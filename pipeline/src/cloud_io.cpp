@@ -419,6 +419,17 @@ void writeCloudPly(const PointData& data, const std::string& path, bool binary) 
                                     Eigen::Quaternionf::Identity(), false);
   if (rc < 0)
     throw RunError("output '" + path + "': cannot be written");
+  // PCL's binary writer does not report failed writes (a full disk leaves a truncated file and
+  // success): the file must be its header plus exactly the packed rows.
+  std::ifstream in(path, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  const auto end = head.find("end_header\n");
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (end == std::string::npos || ec || size != end + 11 + blob.data.size())
+    throw RunError("output '" + path + "': write failed (disk full?)");
 }
 
 }  // namespace slipfit::pipeline

@@ -29,15 +29,17 @@ inline std::string slurp(const std::string& path) {
   return ss.str();
 }
 
-/// Runs `slipfit ARGS` (a shell-quoted string) with the source tree as working directory.
-inline CliResult runSlipfit(const std::string& args) {
+/// Runs `slipfit ARGS` (a shell-quoted string) with the source tree as working directory, after
+/// the shell commands \a prefix (e.g. "ulimit -f 20;").
+inline CliResult runSlipfit(const std::string& args, const std::string& prefix = "") {
   namespace fs = std::filesystem;
   fs::create_directories(kScratchDir);
   static int counter = 0;
   const std::string base = std::string(kScratchDir) + "/cli" + std::to_string(::getpid()) + "_" +
                            std::to_string(counter++);
-  const std::string command = std::string("cd '") + kSourceDir + "' && '" + kSlipfitExe + "' " +
-                              args + " > '" + base + ".out' 2> '" + base + ".err' < /dev/null";
+  const std::string command = prefix + std::string("cd '") + kSourceDir + "' && '" + kSlipfitExe +
+                              "' " + args + " > '" + base + ".out' 2> '" + base +
+                              ".err' < /dev/null";
   const int status = std::system(command.c_str());
   CliResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <Eigen/Eigenvalues>
+
 #include "slipfit/cloud_maps.h"
 #include "slipfit/exceptions.h"
 #include "slipfit/neighborhood_selection.h"
@@ -14,6 +16,33 @@
 
 namespace slipfit {
 
+/// True when the finite indexed points span no plane: the middle eigenvalue of their covariance
+/// vanishes against the largest (a line, or a single repeated point).
+template <typename PointT>
+bool collinear(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& indices) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  std::size_t m = 0;
+  for (pcl::index_t i : indices)
+    if (cloud[static_cast<std::size_t>(i)].getVector3fMap().allFinite()) {
+      mean += cloud[static_cast<std::size_t>(i)].getVector3fMap().template cast<double>();
+      ++m;
+    }
+  if (m < 3)
+    return false;  // too few points is reported by the estimation itself
+  mean /= static_cast<double>(m);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (pcl::index_t i : indices) {
+    const Eigen::Vector3f p = cloud[static_cast<std::size_t>(i)].getVector3fMap();
+    if (p.allFinite()) {
+      const Eigen::Vector3d d = p.template cast<double>() - mean;
+      cov += d * d.transpose();
+    }
+  }
+  const Eigen::Vector3d l =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly).eigenvalues();
+  return !(l(1) > 1e-12 * l(2));
+}
+
 template <typename PointInT, typename PointOutT>
 void NormalEstimation<PointInT, PointOutT>::compute(pcl::PointCloud<PointOutT>& output) {
   parameters_.validate();
@@ -25,6 +54,12 @@ void NormalEstimation<PointInT, PointOutT>::compute(pcl::PointCloud<PointOutT>& 
   const NormalParameters& par = parameters_;
   const std::size_t n = input_->size();
 
+  if (collinear(*input_, *indices_)) {
+    this->deinitCompute();
+    throw DegenerateInputError(
+        "normal estimation: the points are collinear (or all identical): no surface, normals are "
+        "undefined");
+  }
   std::shared_ptr<const Neighborhoods> hoods = neighborhoods_;
   if (hoods && hoods->size() != n) {
     this->deinitCompute();

@@ -1,0 +1,76 @@
+// The bad-input catalogue (tests/bad_inputs/catalogue.yaml): each case gives one error line with
+// the expected text and exit code, and leaves no file behind.
+#include "run_cli.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <filesystem>
+
+namespace slipfit::testing {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+struct BadInput {
+  std::string name, config, prefix, message, stdout_text;
+  int exit = 1;
+};
+
+void PrintTo(const BadInput& c, std::ostream* os) {
+  *os << c.name;
+}
+
+std::vector<BadInput> catalogue() {
+  std::vector<BadInput> cases;
+  const YAML::Node all =
+      YAML::LoadFile(std::string(kSourceDir) + "/tests/bad_inputs/catalogue.yaml");
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const YAML::Node c = all[i];
+    BadInput b;
+    b.name = c["name"].as<std::string>();
+    b.config = c["config"].as<std::string>();
+    b.prefix = c["prefix"] ? c["prefix"].as<std::string>() : "";
+    b.exit = c["exit"].as<int>();
+    b.message = c["message"] ? c["message"].as<std::string>() : "";
+    b.stdout_text = c["stdout"] ? c["stdout"].as<std::string>() : "";
+    cases.push_back(b);
+  }
+  return cases;
+}
+
+class BadInputs : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(BadInputs, OneLineExitCodeNoOutput) {
+  const BadInput& c = GetParam();
+  std::string yaml = c.config;
+  const std::string dir = std::string(kSourceDir) + "/tests/bad_inputs";
+  for (auto at = yaml.find("{dir}"); at != std::string::npos; at = yaml.find("{dir}"))
+    yaml.replace(at, 5, dir);
+  const std::string out = scratchDir("bad_" + c.name);
+  const bool own_output =
+      yaml.find("dir: /") != std::string::npos && yaml.find("output:") != std::string::npos;
+  const std::string cfg = scratchFile("bad_" + c.name + ".yaml", yaml);
+  const CliResult r =
+      runSlipfit("run '" + cfg + "'" + (own_output ? "" : " --set output.dir=" + out), c.prefix);
+  EXPECT_EQ(r.code, c.exit) << r.err;
+  if (c.exit == 0) {
+    EXPECT_EQ(r.err, "");
+    EXPECT_THAT(r.out, HasSubstr(c.stdout_text));
+    return;
+  }
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_THAT(r.err, StartsWith("slipfit: error: "));
+  EXPECT_THAT(r.err, HasSubstr(c.message));
+  EXPECT_FALSE(std::filesystem::exists(out) && !std::filesystem::is_empty(out))
+      << "a failed run left files in " << out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Catalogue, BadInputs, ::testing::ValuesIn(catalogue()),
+                         [](const auto& info) { return info.param.name; });
+
+}  // namespace
+}  // namespace slipfit::testing
