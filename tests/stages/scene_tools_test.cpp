@@ -1,0 +1,151 @@
+// The pieces around segmentation: surface normals of the primitives, the labelled scene sampler,
+// subsampling with representatives, and the splat renderer.
+#include "slipfit/exceptions.h"
+#include "slipfit/primitives.h"
+#include "slipfit/scene_sampler.h"
+#include "slipfit/splat_renderer.h"
+#include "slipfit/voxel_sampling.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace slipfit {
+namespace {
+
+// The normal is the gradient of the signed distance: compare with central differences.
+TEST(SurfaceNormal, IsTheGradientOfTheSignedDistance) {
+  const Primitive shapes[] = {
+      Plane{Eigen::Vector3d(1, 2, 2) / 3, 0.5}, Sphere{Eigen::Vector3d(0.3, -0.2, 1), 0.8},
+      Cylinder{Eigen::Vector3d(0, 0.6, 0.8), Eigen::Vector3d(0.1, 0.2, 0.3), 0.4},
+      Cone{Eigen::Vector3d(0.6, 0, 0.8), Eigen::Vector3d(-0.2, 0.1, 0), 0.4}};
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  for (const Primitive& s : shapes)
+    for (int k = 0; k < 200; ++k) {
+      const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+      if (const auto* cone = std::get_if<Cone>(&s)) {
+        // Skip points whose nearest surface point is the apex (the distance is not smooth there).
+        const Eigen::Vector3d v = p - cone->apex;
+        const double h = v.dot(cone->axis), rho = (v - h * cone->axis).norm();
+        if (h * std::cos(cone->half_angle) + rho * std::sin(cone->half_angle) < 0.1)
+          continue;
+      }
+      Eigen::Vector3d g;
+      const double e = 1e-6;
+      for (int j = 0; j < 3; ++j) {
+        Eigen::Vector3d d = Eigen::Vector3d::Zero();
+        d[j] = e;
+        g[j] = (signedDistance(p + d, s) - signedDistance(p - d, s)) / (2 * e);
+      }
+      EXPECT_LT((surfaceNormal(p, s) - g).norm(), 1e-6) << primitiveTypeName(typeOf(s));
+      EXPECT_NEAR(surfaceNormal(p, s).norm(), 1.0, 1e-12);
+    }
+}
+
+TEST(SceneSampler, PointsLieOnTheirLabelledPrimitivesWithOutwardNormals) {
+  SceneSamplingParameters p;
+  p.points = 20000;
+  p.outlier_fraction = 0.1;
+  Eigen::Matrix3Xd x, n;
+  std::vector<std::int32_t> labels;
+  sampleScene(p, x, n, labels);
+  ASSERT_EQ(x.cols(), 22000);
+  const auto& truth = scenePrimitives();
+  ASSERT_EQ(truth.size(), 10u);
+  std::vector<std::size_t> count(10, 0);
+  std::size_t outliers = 0;
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    const std::int32_t l = labels[static_cast<std::size_t>(i)];
+    if (l < 0) {
+      ++outliers;
+      continue;
+    }
+    ++count[static_cast<std::size_t>(l)];
+    const Primitive& s = truth[static_cast<std::size_t>(l)].primitive;
+    EXPECT_LT(distance(x.col(i), s), 1e-12) << truth[static_cast<std::size_t>(l)].name;
+    EXPECT_NEAR(n.col(i).dot(surfaceNormal(x.col(i), s)), 1.0, 1e-12);
+  }
+  EXPECT_EQ(outliers, 2000u);
+  // Area-uniform: the sphere (area 4π·0.45² = 2.545) against the box top (0.64) is 3.98 : 1.
+  const double ratio = static_cast<double>(count[8]) / static_cast<double>(count[1]);
+  EXPECT_NEAR(ratio, 4 * 3.14159265358979 * 0.45 * 0.45 / 0.64, 0.4);
+  // Seeded: the same parameters give the same cloud.
+  Eigen::Matrix3Xd y, m;
+  std::vector<std::int32_t> labels2;
+  sampleScene(p, y, m, labels2);
+  EXPECT_TRUE(x == y);
+  EXPECT_EQ(labels, labels2);
+}
+
+TEST(Subsampling, RandomSampleRepresentsEveryPointNearby) {
+  SceneSamplingParameters p;
+  p.points = 200000;
+  Eigen::Matrix3Xd x, n;
+  std::vector<std::int32_t> labels;
+  sampleScene(p, x, n, labels);
+  const Eigen::Matrix3Xf xf = x.cast<float>();
+  const VoxelSampling s = randomSample(xf, 20000, 9);
+  EXPECT_NEAR(static_cast<double>(s.kept.size()), 20000.0, 600.0);  // binomial, 4σ ≈ 540
+  ASSERT_EQ(s.representative.size(), 200000u);
+  std::size_t without = 0;
+  for (std::size_t i = 0; i < s.representative.size(); ++i) {
+    const std::int32_t r = s.representative[i];
+    if (r < 0) {
+      ++without;
+      continue;
+    }
+    // Within the grid cell: at most its diagonal away.
+    const Eigen::Index k = s.kept[static_cast<std::size_t>(r)];
+    EXPECT_LE((xf.col(static_cast<Eigen::Index>(i)) - xf.col(k)).norm(),
+              std::sqrt(3.0) * s.leaf + 1e-6);
+  }
+  for (std::size_t k = 0; k < s.kept.size(); ++k)
+    EXPECT_EQ(s.representative[static_cast<std::size_t>(s.kept[k])], static_cast<std::int32_t>(k));
+  // Cells hold about 8 kept (80 input) points: a cell without a kept point is rare, (0.9)^80.
+  EXPECT_LT(without, 2000u);
+  const VoxelSampling again = randomSample(xf, 20000, 9);
+  EXPECT_EQ(again.kept, s.kept);
+  EXPECT_EQ(again.representative, s.representative);
+}
+
+TEST(Subsampling, VoxelSampleKeepsOnePointPerVoxel) {
+  Eigen::Matrix3Xf x(3, 8);
+  x << 0.0f, 0.1f, 0.9f, 1.1f, 1.2f, 2.5f, 0.05f, 2.9f,  //
+      0, 0, 0, 0, 0, 0, 0, 0,                            //
+      0, 0, 0, 0, 0, 0, 0, 0;
+  const VoxelSampling s = voxelSample(x, 1.0);
+  EXPECT_EQ(s.kept, (std::vector<std::int32_t>{0, 3, 5}));
+  EXPECT_EQ(s.representative, (std::vector<std::int32_t>{0, 0, 0, 1, 1, 2, 0, 2}));
+  EXPECT_THROW(voxelSample(x, 0.0), InvalidParameterError);
+}
+
+TEST(SplatRenderer, NearestSplatWinsAndColoursAreShaded) {
+  RenderParameters r;
+  r.width = 64;
+  r.height = 48;
+  r.eye = Eigen::Vector3d(0, 0, 10);
+  r.target = Eigen::Vector3d::Zero();
+  r.up = Eigen::Vector3d::UnitY();
+  r.splat_radius = 3.0;
+  Eigen::Matrix3Xf x(3, 2), n(3, 2);
+  x << 0, 0, 0, 0, 0, 1;  // two points on the view axis; the second is nearer the eye
+  n << 0, 0, 0, 0, 1, 1;
+  Eigen::Matrix<std::uint8_t, 3, Eigen::Dynamic> c(3, 2);
+  c << 200, 0, 0, 0, 0, 200;
+  const std::vector<std::uint8_t> image = renderSplats(x, c, n, r);
+  ASSERT_EQ(image.size(), 64u * 48u * 3u);
+  const std::size_t centre = (24u * 64u + 32u) * 3u;
+  EXPECT_EQ(image[centre + 0], 0);
+  EXPECT_NEAR(image[centre + 2], 200, 1);  // facing the eye: full colour
+  EXPECT_EQ(image[0], 255);                // background
+  EXPECT_EQ(image[1], 255);
+  // Without the near point the far one shows.
+  const std::vector<std::uint8_t> far =
+      renderSplats(x.leftCols(1), c.leftCols(1), n.leftCols(1), r);
+  EXPECT_NEAR(far[centre], 200, 1);
+}
+
+}  // namespace
+}  // namespace slipfit
