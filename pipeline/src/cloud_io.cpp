@@ -222,8 +222,18 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
       pcl::PLYReader reader;
       rc = reader.read(path, blob, origin, orientation, version, 0);
     } else {
+      // PCL 1.13's PCDReader::read dereferences null on some malformed headers that announce no
+      // points (found by tests/fuzz): the header is checked on its own first.
       pcl::PCDReader reader;
-      rc = reader.read(path, blob, origin, orientation, version, 0);
+      int data_type = 0;
+      unsigned int data_index = 0;
+      rc = reader.readHeader(path, blob, origin, orientation, version, data_type, data_index, 0);
+      if (rc >= 0 && (blob.fields.empty() || blob.point_step == 0))
+        rc = -1;
+      else if (rc >= 0 && static_cast<std::size_t>(blob.width) * blob.height == 0)
+        throw RunError(where + "the cloud is empty (0 points)");
+      if (rc >= 0)
+        rc = reader.read(path, blob, origin, orientation, version, 0);
     }
   } catch (const std::exception& e) {
     throw RunError(where + "cannot be read: " + e.what());

@@ -27,21 +27,6 @@ void SegmentationParameters::validate() const {
 
 namespace {
 
-std::optional<PrimitiveType> primitiveOf(SlippageType t) {
-  switch (t) {
-    case SlippageType::plane:
-      return PrimitiveType::plane;
-    case SlippageType::sphere:
-      return PrimitiveType::sphere;
-    case SlippageType::cylinder:
-      return PrimitiveType::cylinder;
-    case SlippageType::cone:
-      return PrimitiveType::cone;
-    default:
-      return std::nullopt;
-  }
-}
-
 double median(std::vector<double> v) {
   if (v.empty())
     return 0.0;
@@ -260,7 +245,7 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
   // (ties by index: deterministic).
   std::vector<std::pair<int, int>> seeds;  // (−agreement, index)
   for (std::size_t i = 0; i < n; ++i) {
-    if (!primitiveOf(local_types[i]))
+    if (!primitiveTypeOf(local_types[i]))
       continue;
     int agree = 0;
     for (pcl::index_t j : hoods[i])
@@ -279,7 +264,7 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
     const auto us = static_cast<std::size_t>(seed);
     if (result.labels[us] >= 0 || tried[us])
       continue;
-    const PrimitiveType type = *primitiveOf(local_types[us]);
+    const PrimitiveType type = *primitiveTypeOf(local_types[us]);
     std::vector<int> members;
     for (pcl::index_t j : hoods[us])
       if (result.labels[static_cast<std::size_t>(j)] < 0 &&

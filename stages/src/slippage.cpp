@@ -20,6 +20,21 @@ std::string_view slippageTypeName(SlippageType type) {
   return "?";
 }
 
+std::optional<PrimitiveType> primitiveTypeOf(SlippageType type) {
+  switch (type) {
+    case SlippageType::plane:
+      return PrimitiveType::plane;
+    case SlippageType::sphere:
+      return PrimitiveType::sphere;
+    case SlippageType::cylinder:
+      return PrimitiveType::cylinder;
+    case SlippageType::cone:
+      return PrimitiveType::cone;
+    default:
+      return std::nullopt;
+  }
+}
+
 Eigen::Matrix<double, 6, 6> slippageMatrix(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                                            const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
                                            const Eigen::Ref<const Eigen::VectorXd>& weights) {
@@ -287,10 +302,12 @@ SlippageResult classifyMotions(const NormalisedSet& set, const SlippageResult& b
 
 }  // namespace
 
-SlippageResult analyzeSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
-                               const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
-                               const Eigen::Ref<const Eigen::VectorXd>& weights,
-                               const SlippageOptions& options) {
+namespace {
+
+SlippageResult analyze(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                       const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                       const Eigen::Ref<const Eigen::VectorXd>& weights,
+                       const SlippageOptions& options) {
   const Eigen::Index n = points.cols();
   if (normals.cols() != n || weights.size() != n)
     return degenerate("slippage: points, normals and weights differ in number");
@@ -385,6 +402,45 @@ SlippageResult analyzeSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
       }
     }
   return readings[best];
+}
+
+/// Every number a result reports is finite.
+bool finiteResult(const SlippageResult& r) {
+  const auto ok = [](const std::optional<Eigen::Vector3d>& v) { return !v || v->allFinite(); };
+  if (!r.spectrum.allFinite() || !r.basis.allFinite() || !ok(r.axis) || !ok(r.point) ||
+      !ok(r.center) || !ok(r.normal) || (r.pitch && !std::isfinite(*r.pitch)) ||
+      !std::isfinite(r.scale))
+    return false;
+  if (!r.primitive)
+    return true;
+  return std::visit(
+      [](const auto& p) {
+        using T = std::decay_t<decltype(p)>;
+        if constexpr (std::is_same_v<T, Plane>)
+          return p.normal.allFinite() && std::isfinite(p.d);
+        else if constexpr (std::is_same_v<T, Sphere>)
+          return p.center.allFinite() && std::isfinite(p.radius);
+        else if constexpr (std::is_same_v<T, Cylinder>)
+          return p.axis.allFinite() && p.point.allFinite() && std::isfinite(p.radius);
+        else
+          return p.axis.allFinite() && p.apex.allFinite() && std::isfinite(p.half_angle);
+      },
+      *r.primitive);
+}
+
+}  // namespace
+
+SlippageResult analyzeSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                               const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                               const Eigen::Ref<const Eigen::VectorXd>& weights,
+                               const SlippageOptions& options) {
+  SlippageResult r = analyze(points, normals, weights, options);
+  // Finite inputs can still overflow (weights × coordinates near the double range; found by
+  // tests/fuzz): never hand out a NaN.
+  if (r.type != SlippageType::degenerate && !finiteResult(r))
+    return degenerate(
+        "slippage: the result overflowed (coordinates or weights too large to normalise)");
+  return r;
 }
 
 }  // namespace slipfit

@@ -20,21 +20,6 @@ constexpr std::array<std::pair<SlippageMode, std::string_view>, 2> kSlippageMode
     {SlippageMode::local, "local"},
 }};
 
-std::optional<PrimitiveType> fittable(SlippageType t) {
-  switch (t) {
-    case SlippageType::plane:
-      return PrimitiveType::plane;
-    case SlippageType::sphere:
-      return PrimitiveType::sphere;
-    case SlippageType::cylinder:
-      return PrimitiveType::cylinder;
-    case SlippageType::cone:
-      return PrimitiveType::cone;
-    default:
-      return std::nullopt;
-  }
-}
-
 class SlippageStage : public Stage {
  public:
   void declare(OptionSet& o) override {
@@ -86,7 +71,7 @@ class SlippageStage : public Stage {
     context.report << "slippage: " << slippageTypeName(s.type) << ", " << s.motions
                    << " motions, spectrum " << s.spectrum.transpose()
                    << (s.reason.empty() ? "" : " (" + s.reason + ")") << "\n";
-    const auto type = fittable(s.type);
+    const auto type = primitiveTypeOf(s.type);
     record.fitted = fit_ && type.has_value();
     if (record.fitted) {
       record.fit = fitPrimitive(*type, x, nn, w);

@@ -42,6 +42,9 @@ constexpr std::array<std::pair<SlippageType, std::string_view>, 10> kSlippageTyp
 }};
 std::string_view slippageTypeName(SlippageType type);
 
+/// The fittable primitive of a slippage type (plane, sphere, cylinder, cone), or none.
+std::optional<PrimitiveType> primitiveTypeOf(SlippageType type);
+
 struct SlippageOptions {
   /// Eigenvalues λ ≤ threshold · λ_max (of the normalised matrix) may be slippable. Candidate
   /// counts are ranked by the gap λ_{k+1} / λ_k; the count is the best-ranked one whose ideal
