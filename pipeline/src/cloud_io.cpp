@@ -249,6 +249,14 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   if (n == 0)
     throw RunError(where + "the cloud is empty (0 points)");
 
+  // Every field must fit its record: a header whose SIZE, TYPE and COUNT disagree would have the
+  // reads below run past the data (found by tests/fuzz).
+  for (const auto& f : blob.fields) {
+    const std::size_t size = typeSize(f.datatype) * std::max<std::uint32_t>(f.count, 1);
+    if (typeSize(f.datatype) == 0 || f.offset + size > blob.point_step)
+      throw RunError(where + "field '" + f.name +
+                     "' does not fit its record (inconsistent size, type or count)");
+  }
   const Field* fx = findField(blob, "x");
   const Field* fy = findField(blob, "y");
   const Field* fz = findField(blob, "z");
