@@ -9,6 +9,9 @@
 
 #include <pcl/io/png_io.h>
 
+#include <omp.h>
+
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <ostream>
@@ -102,7 +105,7 @@ class SegmentationStage : public Stage {
       throw RunError("segmentation: some points are not finite");
     SegmentationResult result = segmentBySlippage(x, nn, *data.neighborhoods, types, parameters_);
     if (data.full)
-      carryToFull(data, result, x);
+      carryToFull(data, result, x, context.threads);
 
     std::vector<std::int32_t> primitive(data.size(), -1);
     std::vector<std::uint8_t> red(data.size()), green(data.size()), blue(data.size());
@@ -145,7 +148,8 @@ class SegmentationStage : public Stage {
   /// representative and of the representative's neighbors, the one whose primitive is nearest,
   /// when within the distance tolerance (else −1); the segments' members and distances are then
   /// those of the full cloud (the fits stay the analysis fits).
-  static void carryToFull(PointData& data, SegmentationResult& result, Eigen::Matrix3Xd& x) {
+  static void carryToFull(PointData& data, SegmentationResult& result, Eigen::Matrix3Xd& x,
+                          int threads) {
     const std::vector<std::int32_t> representative = data.representative;
     const std::shared_ptr<const Neighborhoods> hoods = data.neighborhoods;
     const std::vector<std::int32_t> analysis_labels = result.labels;
@@ -155,17 +159,24 @@ class SegmentationStage : public Stage {
     std::vector<std::int32_t> labels(data.size(), -1);
     for (auto& s : result.segments)
       s.indices.clear();
+      // Per point: the distinct segments around its representative, each distance computed once.
+#pragma omp parallel for schedule(static) num_threads(threads > 0 ? threads : omp_get_num_procs())
     for (Eigen::Index i = 0; i < n; ++i) {
       x.col(i) = (*data.cloud)[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();
       const std::int32_t r = representative[static_cast<std::size_t>(i)];
       if (r < 0)
         continue;
+      std::array<std::int32_t, 8> seen{};
+      std::size_t count = 0;
       double best = result.distance;
       std::int32_t label = -1;
       for (pcl::index_t j : (*hoods)[static_cast<std::size_t>(r)]) {
         const std::int32_t candidate = analysis_labels[static_cast<std::size_t>(j)];
-        if (candidate < 0 || candidate == label)
+        if (candidate < 0 ||
+            std::find(seen.begin(), seen.begin() + count, candidate) != seen.begin() + count)
           continue;
+        if (count < seen.size())
+          seen[count++] = candidate;
         const double d =
             distance(x.col(i), result.segments[static_cast<std::size_t>(candidate)].fit.refined);
         if (d <= best) {
@@ -173,11 +184,12 @@ class SegmentationStage : public Stage {
           label = candidate;
         }
       }
-      if (label < 0)
-        continue;
       labels[static_cast<std::size_t>(i)] = label;
-      result.segments[static_cast<std::size_t>(label)].indices.push_back(static_cast<int>(i));
     }
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (labels[static_cast<std::size_t>(i)] >= 0)
+        result.segments[static_cast<std::size_t>(labels[static_cast<std::size_t>(i)])]
+            .indices.push_back(static_cast<int>(i));
     result.labels = std::move(labels);
     for (auto& s : result.segments) {
       double sum = 0.0;
