@@ -50,7 +50,8 @@ std::vector<std::uint8_t> renderSplats(
   const double tan_half = std::tan(parameters.field_of_view / 2);
   const double aspect = static_cast<double>(w) / h;
   const double radius = std::max(box.diagonal().norm() / 2, 1e-12);
-  // The bounding sphere, shrunk by a fifth (scenes are flatter than their sphere), fits the narrower field of view.
+  // The bounding sphere, shrunk by a fifth (scenes are flatter than their sphere), fits the
+  // narrower field of view.
   const double distance = 0.8 * radius / std::sin(std::atan(tan_half * std::min(1.0, aspect)));
   const Eigen::Vector3d eye =
       parameters.eye.value_or(target + distance * parameters.view_direction.normalized());

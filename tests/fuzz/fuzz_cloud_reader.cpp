@@ -4,19 +4,19 @@
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/pipeline/errors.h"
 
+#include <unistd.h>
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0)
     return 0;
   static const std::string base = "/tmp/slipfit_fuzz_cloud_" + std::to_string(::getpid());
   const std::string path = base + ((data[0] & 1) ? ".pcd" : ".ply");
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(data + 1),
-                                              static_cast<std::streamsize>(size - 1));
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(data + 1), static_cast<std::streamsize>(size - 1));
   for (auto policy : {slipfit::pipeline::NanPolicy::error, slipfit::pipeline::NanPolicy::skip}) {
     try {
       const auto cloud = slipfit::pipeline::readCloud(path, policy);

@@ -6,15 +6,16 @@
 
 #include <pcl/exceptions.h>
 
+#include <unistd.h>
 #include <cstdint>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const std::string path = "/tmp/slipfit_fuzz_config_" + std::to_string(::getpid()) + ".yaml";
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(data),
-                                              static_cast<std::streamsize>(size));
+  static const std::string path =
+      "/tmp/slipfit_fuzz_config_" + std::to_string(::getpid()) + ".yaml";
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   try {
     (void)slipfit::pipeline::loadConfig(path, {});
   } catch (const slipfit::pipeline::ConfigError&) {

@@ -88,7 +88,8 @@ TEST(Cli, QuietPrintsNothingAndSetOverrides) {
   EXPECT_EQ(r.code, 0);
   EXPECT_EQ(r.out + r.err, "");
   r = runSlipfit(
-      "run configs/normals_demo.yaml --set neighborhoods.k=8 --set output.format=ascii --set output.dir=" +
+      "run configs/normals_demo.yaml --set neighborhoods.k=8 --set output.format=ascii --set "
+      "output.dir=" +
       out);
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("sizes 8..8"));
