@@ -4,7 +4,7 @@
 #include "slipfit/primitives.h"
 #include "slipfit/scene_sampler.h"
 #include "slipfit/splat_renderer.h"
-#include "slipfit/voxel_sampling.h"
+#include "slipfit/subsampling.h"
 
 #include <gtest/gtest.h>
 
@@ -86,7 +86,7 @@ TEST(Subsampling, RandomSampleRepresentsEveryPointNearby) {
   std::vector<std::int32_t> labels;
   sampleScene(p, x, n, labels);
   const Eigen::Matrix3Xf xf = x.cast<float>();
-  const VoxelSampling s = randomSample(xf, 20000, 9);
+  const Subsample s = randomSample(xf, 20000, 9);
   EXPECT_NEAR(static_cast<double>(s.kept.size()), 20000.0, 600.0);  // binomial, 4σ ≈ 540
   ASSERT_EQ(s.representative.size(), 200000u);
   std::size_t without = 0;
@@ -105,7 +105,7 @@ TEST(Subsampling, RandomSampleRepresentsEveryPointNearby) {
     EXPECT_EQ(s.representative[static_cast<std::size_t>(s.kept[k])], static_cast<std::int32_t>(k));
   // Cells hold about 8 kept (80 input) points: a cell without a kept point is rare, (0.9)^80.
   EXPECT_LT(without, 2000u);
-  const VoxelSampling again = randomSample(xf, 20000, 9);
+  const Subsample again = randomSample(xf, 20000, 9);
   EXPECT_EQ(again.kept, s.kept);
   EXPECT_EQ(again.representative, s.representative);
 }
@@ -115,7 +115,7 @@ TEST(Subsampling, VoxelSampleKeepsOnePointPerVoxel) {
   x << 0.0f, 0.1f, 0.9f, 1.1f, 1.2f, 2.5f, 0.05f, 2.9f,  //
       0, 0, 0, 0, 0, 0, 0, 0,                            //
       0, 0, 0, 0, 0, 0, 0, 0;
-  const VoxelSampling s = voxelSample(x, 1.0);
+  const Subsample s = voxelSample(x, 1.0);
   EXPECT_EQ(s.kept, (std::vector<std::int32_t>{0, 3, 5}));
   EXPECT_EQ(s.representative, (std::vector<std::int32_t>{0, 0, 0, 1, 1, 2, 0, 2}));
   EXPECT_THROW(voxelSample(x, 0.0), InvalidParameterError);

@@ -1,7 +1,7 @@
 #include "adapters.h"
 
 #include "slipfit/pipeline/errors.h"
-#include "slipfit/voxel_sampling.h"
+#include "slipfit/subsampling.h"
 
 #include <array>
 #include <ostream>
@@ -42,9 +42,9 @@ class SubsampleStage : public Stage {
     for (Eigen::Index i = 0; i < n; ++i)
       x.col(i) = (*data.cloud)[static_cast<std::size_t>(i)].getVector3fMap();
     const auto target = static_cast<std::size_t>(points_);
-    const VoxelSampling s = mode_ == Mode::random
-                                ? randomSample(x, target, context.seed)
-                                : (leaf_ ? voxelSample(x, *leaf_) : voxelSampleTo(x, target));
+    const Subsample s = mode_ == Mode::random
+                            ? randomSample(x, target, context.seed)
+                            : (leaf_ ? voxelSample(x, *leaf_) : voxelSampleTo(x, target));
     if (s.kept.size() == data.size()) {
       context.report << "subsample: " << data.size() << " points, none dropped\n";
       return;

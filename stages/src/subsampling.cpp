@@ -1,4 +1,4 @@
-#include "slipfit/voxel_sampling.h"
+#include "slipfit/subsampling.h"
 
 #include "slipfit/exceptions.h"
 
@@ -23,9 +23,9 @@ Eigen::AlignedBox3f finiteBox(const Eigen::Ref<const Eigen::Matrix3Xf>& points) 
 
 }  // namespace
 
-VoxelSampling voxelSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, double leaf) {
+Subsample voxelSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, double leaf) {
   const Eigen::AlignedBox3f box = finiteBox(points);
-  VoxelSampling s;
+  Subsample s;
   s.leaf = leaf;
   s.representative.assign(static_cast<std::size_t>(points.cols()), -1);
   if (box.isEmpty())
@@ -53,8 +53,8 @@ VoxelSampling voxelSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, doub
 
 namespace {
 
-VoxelSampling keepAll(const Eigen::Ref<const Eigen::Matrix3Xf>& points) {
-  VoxelSampling s;
+Subsample keepAll(const Eigen::Ref<const Eigen::Matrix3Xf>& points) {
+  Subsample s;
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     const bool finite = points.col(i).allFinite();
     s.representative.push_back(finite ? static_cast<std::int32_t>(s.kept.size()) : -1);
@@ -66,8 +66,8 @@ VoxelSampling keepAll(const Eigen::Ref<const Eigen::Matrix3Xf>& points) {
 
 }  // namespace
 
-VoxelSampling randomSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target,
-                           std::uint64_t seed) {
+Subsample randomSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target,
+                       std::uint64_t seed) {
   if (target == 0)
     throw InvalidParameterError("random sampling: the target must be at least 1 point");
   if (static_cast<std::size_t>(points.cols()) <= target)
@@ -75,7 +75,7 @@ VoxelSampling randomSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double p = static_cast<double>(target) / static_cast<double>(points.cols());
-  VoxelSampling s;
+  Subsample s;
   for (Eigen::Index i = 0; i < points.cols(); ++i)
     if (unit(rng) < p && points.col(i).allFinite()) {
       s.kept.push_back(static_cast<std::int32_t>(i));
@@ -89,8 +89,7 @@ VoxelSampling randomSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std
   Eigen::Matrix3Xf kept_points(3, static_cast<Eigen::Index>(s.kept.size()));
   for (std::size_t k = 0; k < s.kept.size(); ++k)
     kept_points.col(static_cast<Eigen::Index>(k)) = points.col(s.kept[k]);
-  const VoxelSampling grid =
-      voxelSampleTo(kept_points, std::max<std::size_t>(1, s.kept.size() / 8));
+  const Subsample grid = voxelSampleTo(kept_points, std::max<std::size_t>(1, s.kept.size() / 8));
   s.leaf = grid.leaf;
   s.representative.assign(static_cast<std::size_t>(points.cols()), -1);
   if (grid.leaf == 0.0) {
@@ -127,11 +126,11 @@ VoxelSampling randomSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std
   return s;
 }
 
-VoxelSampling voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target) {
+Subsample voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target) {
   if (target == 0)
     throw InvalidParameterError("voxel sampling: the target must be at least 1 point");
   if (static_cast<std::size_t>(points.cols()) <= target) {
-    VoxelSampling s;
+    Subsample s;
     for (Eigen::Index i = 0; i < points.cols(); ++i) {
       s.representative.push_back(
           points.col(i).allFinite() ? static_cast<std::int32_t>(s.kept.size()) : -1);
@@ -146,7 +145,7 @@ VoxelSampling voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, st
   Eigen::Vector3d size = box.sizes().cast<double>();
   std::sort(size.data(), size.data() + 3);
   double leaf = std::sqrt(std::max(size[1] * size[2], 1e-300) / static_cast<double>(target));
-  VoxelSampling s = voxelSample(points, leaf);
+  Subsample s = voxelSample(points, leaf);
   for (int pass = 0; pass < 4; ++pass) {
     const double ratio = static_cast<double>(s.kept.size()) / static_cast<double>(target);
     if (ratio > 0.9 && ratio < 1.1)

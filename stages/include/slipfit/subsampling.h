@@ -11,7 +11,7 @@
 
 namespace slipfit {
 
-struct VoxelSampling {
+struct Subsample {
   double leaf = 0.0;                         ///< voxel edge used, units
   std::vector<std::int32_t> kept;            ///< indices of the kept points, ascending
   std::vector<std::int32_t> representative;  ///< per input point: its position in `kept`
@@ -20,18 +20,18 @@ struct VoxelSampling {
 /// One point per occupied voxel of edge \a leaf (the first in index order: deterministic);
 /// non-finite points are represented by nothing (−1). Throws InvalidParameterError for a leaf
 /// that is not positive or would overflow the 21-bit voxel keys.
-VoxelSampling voxelSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, double leaf);
+Subsample voxelSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, double leaf);
 
 /// voxelSample with the leaf adjusted (a few passes, each O(N)) so that about \a target points
 /// are kept; no subsampling (leaf 0, every point kept) when there are at most \a target points.
-VoxelSampling voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target);
+Subsample voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target);
 
 /// About \a target points drawn uniformly at random (seeded; each point with probability
 /// target / N, so the result is reproducible). A point is represented by the first kept point of
 /// its cell in a grid of about eight kept points per cell, or by nothing (−1) when its cell holds
 /// none — isolated points, mostly outliers; `leaf` is that grid's cell. No subsampling when there
 /// are at most \a target points.
-VoxelSampling randomSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target,
-                           std::uint64_t seed);
+Subsample randomSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target,
+                       std::uint64_t seed);
 
 }  // namespace slipfit
