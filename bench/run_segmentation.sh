@@ -51,7 +51,7 @@ for n in $sizes; do
         set -- $run
         cout=$work/cgal_$1_$2
         mkdir -p "$cout"
-        input=$out/cloud.ply
+        input=$out/segments.ply
         [ "$2" = pca ] && input=$scene/cloud.ply
         detect=$(/usr/bin/time -f "%e %M" -o "$work/time" "$cgal" "$input" "$cout" "$1" 1 "$2" |
           sed -n 's/.*, \([0-9.]*\) s detection.*/\1/p')

@@ -22,7 +22,10 @@ void InputSection::declare(OptionSet& o) {
 void OutputSection::declare(OptionSet& o) {
   o.add("dir", dir, "Directory for the outputs; created if missing.");
   o.add("format", format, kPlyEncodingNames, "PLY encoding of the output cloud.");
-  o.add("cloud", cloud, "File name of the output cloud inside dir.");
+  o.add("cloud", cloud,
+        "File name of the output cloud inside dir (empty: none, when the stages write what is "
+        "wanted).")
+      .allowEmpty();
 }
 
 void RunSettings::declare(OptionSet& o) {

@@ -145,7 +145,7 @@ Option& OptionSet::add(std::string name, std::string& field, std::string help) {
   return push(std::move(name), "string", field.empty() ? "\"\"" : field, std::move(help),
               [&field](const YAML::Node& node, const Option& option) {
                 field = scalarText(node, option);
-                if (field.empty())
+                if (field.empty() && !option.allowsEmpty())
                   throw OptionValueError("must not be empty");
               });
 }

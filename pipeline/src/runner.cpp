@@ -91,9 +91,10 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
 
   data.expandToFull();  // a subsampled analysis is written for every input point
   progress.begin(steps, steps, "write " + config.output.dir);
-  outputs.add(config.output.cloud, [&](const std::string& path) {
-    writeCloudPly(data, path, config.output.format == PlyEncoding::binary);
-  });
+  if (!config.output.cloud.empty())
+    outputs.add(config.output.cloud, [&](const std::string& path) {
+      writeCloudPly(data, path, config.output.format == PlyEncoding::binary);
+    });
   const auto written = outputs.commit();
   progress.end();
   for (const auto& path : written)

@@ -55,8 +55,9 @@ TEST(SegmentationCli, DemoFindsTheSceneAndWritesEveryOutput) {
               ::testing::AllOf(HasSubstr("element vertex 50000"), HasSubstr("property float nx"),
                                HasSubstr("property int label"), HasSubstr("property int primitive"),
                                HasSubstr("property uchar red"), HasSubstr("property uchar blue")));
-  // cloud.ply keeps the input's truth_label next to the label: score the segmentation with it.
-  const auto cloud = pipeline::readCloud(out + "/cloud.ply", pipeline::NanPolicy::error);
+  // segments.ply keeps the input's truth_label next to the label: score the segmentation with it.
+  EXPECT_FALSE(std::filesystem::exists(out + "/cloud.ply"));  // the demo asks for no cloud.ply
+  const auto cloud = pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
   const std::vector<std::int32_t> truth = intField(cloud, "truth_label");
   const std::vector<std::int32_t> label = intField(cloud, "label");
   ASSERT_EQ(truth.size(), 50000u);
@@ -86,7 +87,7 @@ TEST(SegmentationCli, SameOutputsAcrossRunsAndThreadCounts) {
             0);
   ASSERT_EQ(runSlipfit("run configs/demo.yaml --quiet --set threads=2 --set output.dir=" + b).code,
             0);
-  for (const char* file : {"cloud.ply", "segments.ply", "primitives.yaml", "segments.png"}) {
+  for (const char* file : {"segments.ply", "primitives.yaml", "segments.png"}) {
     const std::string x = slurp(a + "/" + file);
     EXPECT_GT(x.size(), 1000u) << file;
     EXPECT_TRUE(x == slurp(b + "/" + file)) << file << " differs";

@@ -59,7 +59,8 @@ class SegmentationStage : public Stage {
     o.add("segments", segments_,
           "File name of the PLY of every point with label, primitive and red/green/blue.");
     o.add("segment_files", segment_files_, "Also write each segment as segment_<label>.ply.");
-    o.add("render", render_, "File name of a PNG picture of the segments (empty: none).");
+    o.add("render", render_, "File name of a PNG picture of the segments (empty: none).")
+        .allowEmpty();
     o.add("view_direction", view_direction_,
           "Render: direction from the scene's centre towards the camera.");
     o.add("eye", eye_, "Render: camera position (unset: along view_direction, framing the cloud).")
@@ -232,6 +233,7 @@ class SegmentationStage : public Stage {
     PointData view;
     view.cloud = data.cloud;
     view.has_normals = true;
+    view.extra = data.extra;  // the input's own fields (colour, intensity, labels) come along
     for (const char* name : {"label", "primitive", "red", "green", "blue"})
       view.setField(*data.field(name));
     context.outputs->add(segments_,

@@ -79,12 +79,19 @@ class Option {
   void parse(const YAML::Node& node) const { parser_(node, *this); }
   /// Throws OptionValueError when \a value is outside the declared range (or not finite).
   void checkRange(double value) const;
+  /// A string option that may be set to "" (meaning "none"); strings must not be empty otherwise.
+  Option& allowEmpty() {
+    allow_empty_ = true;
+    return *this;
+  }
+  bool allowsEmpty() const { return allow_empty_; }
 
  private:
   std::string name_, type_, default_, help_, unit_;
   std::optional<double> lo_, hi_;
   bool lo_open_ = false;
   bool required_ = false;
+  bool allow_empty_ = false;
   std::vector<std::string> choices_;
   Parser parser_;
 };
