@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
 
 namespace slipfit::pipeline {
 
@@ -198,6 +199,45 @@ void writeAsciiPly(const pcl::PCLPointCloud2& blob, const std::string& path) {
 
 }  // namespace
 
+namespace {
+
+/// PCL's readers allocate what the header announces before reading anything: "element vertex -4"
+/// became an 86 GB allocation (found by tests/fuzz). Every point takes at least one byte of the
+/// file (1/100 byte when LZF-compressed), so a count that is negative, not a number or larger is
+/// refused first.
+void checkAnnouncedSize(const std::string& path, const std::string& ext, const std::string& where) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(65536, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  std::error_code ec;
+  const auto file_size = std::filesystem::file_size(path, ec);
+  // LZF (binary_compressed PCD) shrinks a run by at most 88×: allow that.
+  const unsigned long long limit =
+      (ext == ".pcd" && head.find("DATA binary_compressed") != std::string::npos ? 100ull : 1ull) *
+      file_size;
+  const auto check = [&](const std::string& key) {
+    for (std::size_t at = head.find(key); at != std::string::npos; at = head.find(key, at + 1)) {
+      if (at != 0 && head[at - 1] != '\n')
+        continue;  // only at the start of a header line
+      std::istringstream line(head.substr(at + key.size(), 32));
+      long long count = -1;
+      if (!(line >> count) || count < 0 || static_cast<unsigned long long>(count) > limit)
+        throw RunError(where + "the header announces an impossible number of points ('" + key +
+                       "' line)");
+    }
+  };
+  if (ext == ".ply") {
+    check("element vertex ");
+  } else {
+    check("POINTS ");
+    check("WIDTH ");
+    check("HEIGHT ");
+  }
+}
+
+}  // namespace
+
 PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report) {
   const std::string where = "input '" + path + "': ";
   std::error_code ec;
@@ -212,6 +252,7 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   if (fs::file_size(path, ec) == 0)
     throw RunError(where + "the file is empty");
 
+  checkAnnouncedSize(path, ext, where);
   pcl::PCLPointCloud2 blob;
   Eigen::Vector4f origin;
   Eigen::Quaternionf orientation;
