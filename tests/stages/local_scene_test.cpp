@@ -4,6 +4,7 @@
 #include "slipfit/local_slippage.h"
 
 #include "shapes.h"
+#include "shared_neighborhoods.h"
 #include "slipfit/neighborhood_selection.h"
 #include "slipfit/normal_estimation.h"
 
@@ -29,25 +30,9 @@ std::array<double, 3> sceneFractions(float noise) {
   if (noise > 0.0f)
     testing::addNoise(*cloud, noise, 4);
 
-  NeighborhoodSelection<pcl::PointNormal> s;
-  NeighborhoodParameters np;
-  np.k = 60;
-  s.setParameters(np);
-  s.setInputCloud(cloud);
-  auto hoods = std::make_shared<Neighborhoods>();
-  s.compute(*hoods);
-  if (noise > 0.0f) {
-    NormalEstimation<pcl::PointNormal, pcl::PointNormal> ne;
-    NormalParameters parameters;
-    parameters.orientation = NormalOrientation::viewpoint;  // the sign does not matter here
-    ne.setParameters(parameters);
-    ne.setInputCloud(cloud);
-    ne.setNeighborhoods(hoods);
-    pcl::PointCloud<pcl::PointNormal> estimated;
-    ne.compute(estimated);
-    for (std::size_t i = 0; i < cloud->size(); ++i)
-      (*cloud)[i].getNormalVector3fMap() = estimated[i].getNormalVector3fMap();
-  }
+  const auto hoods = testing::knnNeighborhoods(cloud, 60);
+  if (noise > 0.0f)
+    testing::estimateNormals(cloud, hoods);
   LocalSlippage<pcl::PointNormal> local;
   local.setInputCloud(cloud);
   local.setNeighborhoods(hoods);

@@ -2,6 +2,8 @@
 // scene sampler segmented end to end (neighborhoods → normals → local slippage → segmentation).
 #include "slipfit/segmentation.h"
 
+#include "shared_neighborhoods.h"
+
 #include "slipfit/neighborhood_selection.h"
 #include "slipfit/normal_estimation.h"
 #include "slipfit/scene_sampler.h"
@@ -83,20 +85,8 @@ SceneRun segmentScene(std::size_t points, double noise, double outliers) {
   for (Eigen::Index i = 0; i < x.cols(); ++i)
     (*cloud)[static_cast<std::size_t>(i)].getVector3fMap() = x.col(i).cast<float>();
 
-  NeighborhoodSelection<pcl::PointNormal> selection;
-  NeighborhoodParameters np;
-  np.k = 30;
-  selection.setParameters(np);
-  selection.setInputCloud(cloud);
-  auto hoods = std::make_shared<Neighborhoods>();
-  selection.compute(*hoods);
-  NormalEstimation<pcl::PointNormal, pcl::PointNormal> ne;
-  ne.setInputCloud(cloud);
-  ne.setNeighborhoods(hoods);
-  pcl::PointCloud<pcl::PointNormal> estimated;
-  ne.compute(estimated);
-  for (std::size_t i = 0; i < cloud->size(); ++i)
-    (*cloud)[i].getNormalVector3fMap() = estimated[i].getNormalVector3fMap();
+  const auto hoods = testing::knnNeighborhoods(cloud, 30);
+  testing::estimateNormals(cloud, hoods);
   auto slippage = std::make_shared<pcl::PointCloud<PointSlippage>>();
   LocalSlippage<pcl::PointNormal> local;
   local.setInputCloud(cloud);
@@ -136,10 +126,8 @@ SceneRun segmentScene(std::size_t points, double noise, double outliers) {
   return run;
 }
 
-TEST(Segmentation, SceneAtHalfPercentNoise) {
-  const SceneRun run = segmentScene(100000, 0.005, 0.0);
-  EXPECT_GE(run.score.mean_iou, 0.9);
-  EXPECT_NEAR(static_cast<double>(run.result.segments.size()), 10.0, 1.0);
+/// Every true primitive is matched to a segment of its own type.
+void expectEveryPrimitiveFoundAndTyped(const SceneRun& run) {
   for (std::size_t t = 0; t < run.score.truths; ++t) {
     const int k = run.score.match[t];
     ASSERT_GE(k, 0) << scenePrimitives()[t].name << " not found";
@@ -149,18 +137,19 @@ TEST(Segmentation, SceneAtHalfPercentNoise) {
   }
 }
 
-// 1 % noise and 10 % outliers: every primitive still found with its type; the outliers stay
-// unassigned (they are not counted against the IoU of any true primitive only when left out).
+TEST(Segmentation, SceneAtHalfPercentNoise) {
+  const SceneRun run = segmentScene(100000, 0.005, 0.0);
+  EXPECT_GE(run.score.mean_iou, 0.9);
+  EXPECT_NEAR(static_cast<double>(run.result.segments.size()), 10.0, 1.0);
+  expectEveryPrimitiveFoundAndTyped(run);
+}
+
+// 1 % noise and 10 % outliers: every primitive still found with its type; an outlier a segment
+// takes in counts against that segment's IoU.
 TEST(Segmentation, SceneAtOnePercentNoiseWithOutliers) {
   const SceneRun run = segmentScene(100000, 0.01, 0.1);
   EXPECT_GE(run.score.mean_iou, 0.85);
-  for (std::size_t t = 0; t < run.score.truths; ++t) {
-    const int k = run.score.match[t];
-    ASSERT_GE(k, 0) << scenePrimitives()[t].name << " not found";
-    EXPECT_EQ(run.result.segments[static_cast<std::size_t>(k)].fit.type,
-              typeOf(scenePrimitives()[t].primitive))
-        << scenePrimitives()[t].name;
-  }
+  expectEveryPrimitiveFoundAndTyped(run);
 }
 
 }  // namespace
