@@ -2,6 +2,8 @@
 
 #include "slipfit/pipeline/errors.h"
 
+#include "header_guard.h"
+
 #include <pcl/PCLPointField.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
@@ -23,24 +25,7 @@ using Field = pcl::PCLPointField;
 
 namespace {
 
-std::size_t typeSize(std::uint8_t datatype) {
-  switch (datatype) {
-    case Field::INT8:
-    case Field::UINT8:
-      return 1;
-    case Field::INT16:
-    case Field::UINT16:
-      return 2;
-    case Field::INT32:
-    case Field::UINT32:
-    case Field::FLOAT32:
-      return 4;
-    case Field::FLOAT64:
-      return 8;
-    default:
-      return 0;
-  }
-}
+using detail::fieldTypeSize;
 
 template <typename T>
 double load(const std::uint8_t* p) {
@@ -100,7 +85,7 @@ void appendField(pcl::PCLPointCloud2& blob, const std::string& name, std::uint8_
   f.datatype = datatype;
   f.count = 1;
   blob.fields.push_back(f);
-  blob.point_step += static_cast<std::uint32_t>(typeSize(datatype));
+  blob.point_step += static_cast<std::uint32_t>(fieldTypeSize(datatype));
 }
 
 const char* plyTypeName(std::uint8_t datatype) {
@@ -199,45 +184,6 @@ void writeAsciiPly(const pcl::PCLPointCloud2& blob, const std::string& path) {
 
 }  // namespace
 
-namespace {
-
-/// PCL's readers allocate what the header announces before reading anything: "element vertex -4"
-/// became an 86 GB allocation (found by tests/fuzz). Every point takes at least one byte of the
-/// file (1/100 byte when LZF-compressed), so a count that is negative, not a number or larger is
-/// refused first.
-void checkAnnouncedSize(const std::string& path, const std::string& ext, const std::string& where) {
-  std::ifstream in(path, std::ios::binary);
-  std::string head(65536, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<std::size_t>(in.gcount()));
-  std::error_code ec;
-  const auto file_size = std::filesystem::file_size(path, ec);
-  // LZF (binary_compressed PCD) shrinks a run by at most 88×: allow that.
-  const unsigned long long limit =
-      (ext == ".pcd" && head.find("DATA binary_compressed") != std::string::npos ? 100ull : 1ull) *
-      file_size;
-  const auto check = [&](const std::string& key) {
-    for (std::size_t at = head.find(key); at != std::string::npos; at = head.find(key, at + 1)) {
-      if (at != 0 && head[at - 1] != '\n')
-        continue;  // only at the start of a header line
-      std::istringstream line(head.substr(at + key.size(), 32));
-      long long count = -1;
-      if (!(line >> count) || count < 0 || static_cast<unsigned long long>(count) > limit)
-        throw RunError(where + "the header announces an impossible number of points ('" + key +
-                       "' line)");
-    }
-  };
-  if (ext == ".ply") {
-    check("element vertex ");
-  } else {
-    check("POINTS ");
-    check("WIDTH ");
-    check("HEIGHT ");
-  }
-}
-
-}  // namespace
-
 PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report) {
   const std::string where = "input '" + path + "': ";
   std::error_code ec;
@@ -252,7 +198,10 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   if (fs::file_size(path, ec) == 0)
     throw RunError(where + "the file is empty");
 
-  checkAnnouncedSize(path, ext, where);
+  if (ext == ".ply")
+    detail::checkPlyHeader(path, where);
+  else
+    detail::checkPcdHeaderText(path, where);
   pcl::PCLPointCloud2 blob;
   Eigen::Vector4f origin;
   Eigen::Quaternionf orientation;
@@ -271,11 +220,15 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
       rc = reader.readHeader(path, blob, origin, orientation, version, data_type, data_index, 0);
       if (rc >= 0 && (blob.fields.empty() || blob.point_step == 0))
         rc = -1;
-      else if (rc >= 0 && static_cast<std::size_t>(blob.width) * blob.height == 0)
+      else if (rc >= 0)
+        detail::checkPcdLayout(blob, where);
+      if (rc >= 0 && static_cast<std::size_t>(blob.width) * blob.height == 0)
         throw RunError(where + "the cloud is empty (0 points)");
       if (rc >= 0)
         rc = reader.read(path, blob, origin, orientation, version, 0);
     }
+  } catch (const RunError&) {
+    throw;
   } catch (const std::exception& e) {
     throw RunError(where + "cannot be read: " + e.what());
   }
@@ -293,8 +246,8 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   // Every field must fit its record: a header whose SIZE, TYPE and COUNT disagree would have the
   // reads below run past the data (found by tests/fuzz).
   for (const auto& f : blob.fields) {
-    const std::size_t size = typeSize(f.datatype) * std::max<std::uint32_t>(f.count, 1);
-    if (typeSize(f.datatype) == 0 || f.offset + size > blob.point_step)
+    const std::size_t size = fieldTypeSize(f.datatype) * std::max<std::uint32_t>(f.count, 1);
+    if (fieldTypeSize(f.datatype) == 0 || f.offset + size > blob.point_step)
       throw RunError(where + "field '" + f.name +
                      "' does not fit its record (inconsistent size, type or count)");
   }
@@ -379,7 +332,7 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   // Carry every other scalar field through with its own type.
   std::vector<const Field*> extra;
   for (const auto& f : blob.fields)
-    if (!isGeometryField(f.name) && f.name != "_" && f.count == 1 && typeSize(f.datatype) > 0)
+    if (!isGeometryField(f.name) && f.name != "_" && f.count == 1 && fieldTypeSize(f.datatype) > 0)
       extra.push_back(&f);
   pcl::PCLPointCloud2& out = data.extra;
   out.height = 1;
@@ -394,7 +347,7 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
     for (std::size_t e = 0; e < extra.size(); ++e)
       std::memcpy(out.data.data() + j * out.point_step + out.fields[e].offset,
                   blob.data.data() + keep[j] * blob.point_step + extra[e]->offset,
-                  typeSize(extra[e]->datatype));
+                  fieldTypeSize(extra[e]->datatype));
 
   if (report) {
     report->points_read = n;
@@ -425,7 +378,7 @@ pcl::PCLPointCloud2 toBlob(const PointData& data) {
   std::vector<Column> columns;
   auto add = [&](const std::string& name, std::uint8_t type, const void* base, std::size_t stride) {
     appendField(blob, name, type);
-    columns.push_back({static_cast<const std::uint8_t*>(base), stride, typeSize(type)});
+    columns.push_back({static_cast<const std::uint8_t*>(base), stride, fieldTypeSize(type)});
   };
   const auto* first = reinterpret_cast<const std::uint8_t*>(cloud.data());
   const std::size_t ps = sizeof(pcl::PointNormal);

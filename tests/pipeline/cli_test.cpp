@@ -187,8 +187,8 @@ INSTANTIATE_TEST_SUITE_P(
                   "in [3, 10000], got -4"},
         ErrorCase{"missing_file", "input: {path: {in}}\n" + kTwoStages, "", 1,
                   "input '/nonexistent/input.ply': no such file"},
-        ErrorCase{"empty_file", "input: {path: {in}}\n" + kTwoStages, "x", 1,
-                  "not a readable PLY file"},
+        ErrorCase{"not_a_ply", "input: {path: {in}}\n" + kTwoStages, "x", 1,
+                  "not a PLY file (it does not start with 'ply')"},
         ErrorCase{"empty_cloud", "input: {path: {in}}\n" + kTwoStages,
                   "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float "
                   "y\nproperty float z\nend_header\n",

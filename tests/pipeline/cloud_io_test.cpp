@@ -6,7 +6,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <pcl/conversions.h>
 #include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
+#include <pcl/point_types.h>
 
 #include <cstring>
 #include <filesystem>
@@ -142,6 +145,53 @@ TEST(CloudIo, ReadsPcdAndKeepsItsFields) {
   EXPECT_EQ((rgb >> 16) & 0xff, 30u);
 }
 
+// The header checks (pipeline/src/header_guard.cpp) must accept what PCL's own writers produce:
+// organized clouds (obj_info grid + range_grid), camera elements, colours with alpha, faces.
+TEST(CloudIo, AcceptsEveryLayoutPclWrites) {
+  pcl::PointCloud<pcl::PointXYZRGBA> organized(4, 3);
+  for (std::size_t i = 0; i < organized.size(); ++i) {
+    auto& p = organized[i];
+    p.x = static_cast<float>(i % 4);
+    p.y = static_cast<float>(i / 4);
+    p.z = i == 5 ? std::numeric_limits<float>::quiet_NaN() : 1.0f;  // a missing depth
+    p.r = static_cast<std::uint8_t>(i);
+    p.g = 2;
+    p.b = 3;
+    p.a = 255;
+  }
+  organized.is_dense = false;
+  pcl::PCLPointCloud2 blob;
+  pcl::toPCLPointCloud2(organized, blob);
+  for (const bool binary : {true, false})
+    for (const bool camera : {false, true}) {
+      SCOPED_TRACE(std::string(binary ? "binary" : "ascii") + (camera ? " camera" : " range_grid"));
+      const std::string path = testing::scratchFile("organized.ply", "");
+      pcl::PLYWriter writer;
+      ASSERT_EQ(writer.write(path, blob, Eigen::Vector4f::Zero(), Eigen::Quaternionf::Identity(),
+                             binary, camera),
+                0);
+      ReadReport report;
+      const PointData d = readCloud(path, NanPolicy::skip, &report);
+      EXPECT_EQ(report.points_read, 12u);  // the grid, with the missing cell as NaN
+      EXPECT_EQ(d.size(), 11u);
+      EXPECT_EQ((*d.cloud)[10].x, 3.0f);
+      EXPECT_EQ((*d.cloud)[10].y, 2.0f);
+    }
+
+  // Hand-written: CRLF line ends, comments, obj_info, colours with alpha, a face element.
+  const std::string hand = testing::scratchFile(
+      "hand.ply",
+      "ply\r\nformat ascii 1.0\r\ncomment made by hand\r\nobj_info scanner X\r\n"
+      "element vertex 3\r\nproperty float x\r\nproperty float y\r\nproperty float z\r\n"
+      "property uchar red\r\nproperty uchar green\r\nproperty uchar blue\r\n"
+      "property uchar alpha\r\nelement face 1\r\nproperty list uchar int vertex_indices\r\n"
+      "end_header\r\n0 0 0 1 2 3 4\r\n1 0 0 5 6 7 8\r\n0 1 0 9 10 11 12\r\n3 0 1 2\r\n");
+  ReadReport report;
+  const PointData d = readCloud(hand, NanPolicy::error, &report);
+  EXPECT_EQ(d.size(), 3u);
+  EXPECT_EQ(report.extra_fields, "rgba");
+}
+
 std::string readError(const std::string& path, NanPolicy policy = NanPolicy::error) {
   try {
     readCloud(path, policy);
@@ -189,7 +239,8 @@ TEST(CloudIo, BadFilesGiveOneClearError) {
               HasSubstr("point 1 has a non-finite coordinate (NaN, inf or not a number)"));
   EXPECT_THAT(
       readError(testing::scratchFile("short.ply", std::string(kAsciiHeader) + "0 0 0\n1 1 1\n")),
-      HasSubstr("not a readable PLY file"));
+      HasSubstr("truncated: the header announces 3 vertices and at least 18 bytes of data, but "
+                "only 12 bytes follow it"));
   EXPECT_THAT(readError(testing::scratchFile(
                   "noxyz.ply",
                   "ply\nformat ascii 1.0\nelement vertex 1\nproperty float a\nend_header\n1\n")),

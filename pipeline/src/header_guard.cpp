@@ -1,0 +1,401 @@
+#include "header_guard.h"
+
+#include "slipfit/pipeline/errors.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <vector>
+
+namespace slipfit::pipeline::detail {
+
+namespace {
+
+using Field = pcl::PCLPointField;
+using u64 = unsigned long long;
+
+constexpr std::size_t kMaxHeaderBytes = 1 << 20;
+
+/// The first \a limit bytes of the file, and its size.
+std::string readHead(const std::string& path, u64& file_size) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(kMaxHeaderBytes, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  std::error_code ec;
+  file_size = std::filesystem::file_size(path, ec);
+  if (ec)
+    file_size = head.size();
+  return head;
+}
+
+std::vector<std::string> tokens(const std::string& line, const char* separators) {
+  std::vector<std::string> out;
+  std::size_t at = line.find_first_not_of(separators);
+  while (at != std::string::npos) {
+    const std::size_t end = line.find_first_of(separators, at);
+    out.push_back(line.substr(at, end == std::string::npos ? std::string::npos : end - at));
+    at = line.find_first_not_of(separators, end);
+  }
+  return out;
+}
+
+/// A plain decimal number (no sign, no exponent, no trailing text) no larger than \a max.
+bool parseCount(const std::string& text, u64 max, u64& value) {
+  if (text.empty() || text.size() > 19 ||
+      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return false;
+  value = std::stoull(text);
+  return value <= max;
+}
+
+u64 saturatingAdd(u64 a, u64 b) {
+  return a > std::numeric_limits<u64>::max() - b ? std::numeric_limits<u64>::max() : a + b;
+}
+
+u64 saturatingMul(u64 a, u64 b) {
+  return b != 0 && a > std::numeric_limits<u64>::max() / b ? std::numeric_limits<u64>::max()
+                                                           : a * b;
+}
+
+// ---------------------------------------------------------------------------------------- PLY
+
+/// Byte size of a PLY scalar type name (both spellings), 0 when unknown.
+std::size_t plyTypeSize(const std::string& t) {
+  static const std::map<std::string, std::size_t> kSizes = {
+      {"char", 1},   {"int8", 1},    {"uchar", 1},  {"uint8", 1},  {"short", 2}, {"int16", 2},
+      {"ushort", 2}, {"uint16", 2},  {"int", 4},    {"int32", 4},  {"uint", 4},  {"uint32", 4},
+      {"float", 4},  {"float32", 4}, {"double", 8}, {"float64", 8}};
+  const auto it = kSizes.find(t);
+  return it == kSizes.end() ? 0 : it->second;
+}
+
+bool isUnsignedCountType(const std::string& t) {
+  return t == "uchar" || t == "uint8" || t == "ushort" || t == "uint16" || t == "uint" ||
+         t == "uint32";
+}
+
+struct PlyProperty {
+  std::string name, type;
+  bool list = false;
+  std::size_t min_bytes = 0;  // binary: the scalar, or the count of an empty list
+};
+
+struct PlyElement {
+  std::string name;
+  u64 count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+/// PCL maps uchar red, green, blue (or diffuse_*) to one packed rgb field and writes it when it
+/// reads blue; alpha amends that field. Any other arrangement makes it write out of place or
+/// assert, so the colours must come as red, green, blue (then alpha) in a row.
+void checkVertexColours(const PlyElement& vertex, const std::string& where) {
+  static const char* const kColourNames[] = {"red",           "green",        "blue", "diffuse_red",
+                                             "diffuse_green", "diffuse_blue", "alpha"};
+  std::vector<std::size_t> at;
+  std::string names;
+  for (std::size_t i = 0; i < vertex.properties.size(); ++i) {
+    const PlyProperty& p = vertex.properties[i];
+    const bool colour = (p.type == "uchar" || p.type == "uint8") &&
+                        std::any_of(std::begin(kColourNames), std::end(kColourNames),
+                                    [&](const char* n) { return p.name == n; });
+    if (colour) {
+      at.push_back(i);
+      names += (names.empty() ? "" : " ") + p.name;
+    }
+  }
+  if (at.empty())
+    return;
+  const bool in_a_row = at.back() - at.front() + 1 == at.size();
+  const bool known = names == "red green blue" || names == "red green blue alpha" ||
+                     names == "diffuse_red diffuse_green diffuse_blue" ||
+                     names == "diffuse_red diffuse_green diffuse_blue alpha";
+  if (!in_a_row || !known)
+    throw RunError(where + "vertex colours must be uchar red, green, blue (then alpha) in a row; " +
+                   "the header has '" + names + "'");
+}
+
+}  // namespace
+
+void checkPlyHeader(const std::string& path, const std::string& where) {
+  u64 file_size = 0;
+  const std::string head = readHead(path, file_size);
+  if (head.size() < 4 || head.compare(0, 3, "ply") != 0)
+    throw RunError(where + "not a PLY file (it does not start with 'ply')");
+
+  // PCL reads three bytes of magic, skips one, then reads the header line by line.
+  std::vector<PlyElement> elements;
+  std::string format;
+  u64 width = 0, height = 0;  // as PCL tracks them: obj_info num_cols / num_rows, then the vertex
+  std::size_t pos = 4, line_no = 1, header_end = 0;
+  auto fail = [&](const std::string& what) {
+    throw RunError(where + "PLY header line " + std::to_string(line_no) + ": " + what);
+  };
+  while (header_end == 0) {
+    const std::size_t nl = head.find('\n', pos);
+    if (nl == std::string::npos)
+      throw RunError(where + "the PLY header has no end_header line" +
+                     (head.size() == kMaxHeaderBytes ? " in its first 1 MiB" : ""));
+    std::string line = head.substr(pos, nl - pos);
+    pos = nl + 1;
+    ++line_no;
+    if (!line.empty() && line.back() == '\r')
+      line.pop_back();
+    if (std::any_of(line.begin(), line.end(), [](char c) {
+          const auto u = static_cast<unsigned char>(c);
+          return (u < 0x20 && c != '\t') || u == 0x7f;
+        }))
+      fail("contains a control character");
+    const auto t = tokens(line, " \t");
+    if (t.empty())
+      continue;  // PCL ignores blank lines
+    if (line[0] == ' ' || line[0] == '\t')
+      fail("starts with white space");  // PCL asserts on an indented obj_info line
+    const std::string& keyword = t[0];
+    if (keyword == "format") {
+      if (!format.empty())
+        fail("a second format line");
+      if (t.size() != 3 ||
+          (t[1] != "ascii" && t[1] != "binary_little_endian" && t[1] != "binary_big_endian") ||
+          t[2] != "1.0")
+        fail("unsupported format '" + line + "'");
+      format = t[1];
+    } else if (keyword == "obj_info") {
+      if (t.size() >= 3 && (t[1] == "num_cols" || t[1] == "num_rows")) {
+        u64 v = 0;
+        if (!parseCount(t[2], std::numeric_limits<std::int32_t>::max(), v))
+          fail("obj_info " + t[1] + " '" + t[2] + "' is not a count");
+        (t[1] == "num_cols" ? width : height) = v;
+      }
+    } else if (keyword == "element") {
+      u64 count = 0;
+      if (t.size() != 3)
+        fail("malformed element line '" + line + "'");
+      if (!parseCount(t[2], file_size, count))
+        fail("'" + line + "' announces an impossible number of records for a file of " +
+             std::to_string(file_size) + " bytes");
+      for (const auto& e : elements)
+        if (e.name == t[1])
+          fail("a second '" + t[1] + "' element");
+      elements.push_back({t[1], count, {}});
+      if (t[1] == "vertex" && (width == 0 || height == 0)) {
+        width = count;
+        height = 1;
+      }
+    } else if (keyword == "property") {
+      if (elements.empty())
+        fail("a property before any element");
+      PlyElement& e = elements.back();
+      PlyProperty p;
+      if (t.size() == 3 && plyTypeSize(t[1]) > 0) {
+        p = {t[2], t[1], false, plyTypeSize(t[1])};
+      } else if (t.size() == 5 && t[1] == "list" && isUnsignedCountType(t[2]) &&
+                 plyTypeSize(t[3]) > 0) {
+        p = {t[4], t[3], true, plyTypeSize(t[2])};
+      } else {
+        fail("malformed property line '" + line + "'");
+      }
+      if (std::any_of(e.properties.begin(), e.properties.end(),
+                      [&](const PlyProperty& q) { return q.name == p.name; }))
+        fail("a second property '" + p.name + "' in element '" + e.name + "'");
+      if (p.list && e.name == "vertex")
+        fail("vertex property '" + p.name +
+             "' is a list; slipfit reads scalar vertex properties only");
+      e.properties.push_back(p);
+    } else if (keyword == "end_header") {
+      header_end = pos;
+    }
+    // comment lines, and unknown keywords that PCL ignores too
+  }
+  if (format.empty())
+    throw RunError(where + "the PLY header has no format line");
+  const auto vertex = std::find_if(elements.begin(), elements.end(),
+                                   [](const PlyElement& e) { return e.name == "vertex"; });
+  if (vertex == elements.end())
+    throw RunError(where + "the PLY header has no vertex element");
+  checkVertexColours(*vertex, where);
+
+  // PCL sizes its buffer by num_cols × num_rows when both are given: that grid must be the vertex
+  // element or, for organized clouds, the range_grid element that maps cells to vertices.
+  const u64 grid = width * height;
+  if (grid != vertex->count) {
+    const auto range = std::find_if(elements.begin(), elements.end(),
+                                    [](const PlyElement& e) { return e.name == "range_grid"; });
+    if (range == elements.end() || range->count != grid || grid < vertex->count)
+      throw RunError(where + "obj_info num_cols × num_rows (" + std::to_string(width) + " × " +
+                     std::to_string(height) + ") matches neither the vertex count (" +
+                     std::to_string(vertex->count) + ") nor a range_grid element");
+  }
+
+  // Every record takes at least its scalars and list counts (binary) or one character and a
+  // separator per value (ascii).
+  const bool ascii = format == "ascii";
+  u64 needed = 0;
+  for (const auto& e : elements) {
+    u64 record = 0;
+    for (const auto& p : e.properties)
+      record += ascii ? 2 : p.min_bytes;
+    if (ascii)
+      record = std::max<u64>(record, 1);  // a line, even for an element without properties
+    needed = saturatingAdd(needed, saturatingMul(record, e.count));
+  }
+  const u64 body = file_size - std::min<u64>(file_size, header_end);
+  if (needed > body + (ascii ? 1 : 0))
+    throw RunError(where + "truncated: the header announces " + std::to_string(vertex->count) +
+                   " vertices and at least " + std::to_string(needed) +
+                   " bytes of data, but only " + std::to_string(body) + " bytes follow it");
+}
+
+// ---------------------------------------------------------------------------------------- PCD
+
+namespace {
+
+/// PCL 1.13 knows these SIZE/TYPE pairs; any other gives an unknown field type.
+bool knownPcdType(u64 size, char type) {
+  switch (type) {
+    case 'F':
+      return size == 4 || size == 8;
+    case 'I':
+    case 'U':
+      return size == 1 || size == 2 || size == 4;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
+void checkPcdHeaderText(const std::string& path, const std::string& where) {
+  u64 file_size = 0;
+  const std::string head = readHead(path, file_size);
+  // binary_compressed data (LZF) shrinks by at most ~88×; ascii needs at least two characters
+  // per value of at most 8 bytes.
+  u64 factor = 4;
+  std::vector<u64> sizes, counts;
+  std::size_t fields = 0;
+  u64 points = 0, width = 0, height = 0;
+  auto record = [&] {
+    u64 r = 0;
+    for (std::size_t i = 0; i < fields; ++i)
+      r += (i < sizes.size() ? sizes[i] : 4) * (i < counts.size() ? counts[i] : 1);
+    return r;
+  };
+  auto checkFits = [&](u64 n, const char* what) {
+    const u64 bytes = saturatingMul(n, record());
+    if (bytes > saturatingMul(factor, file_size))
+      throw RunError(where + "the header announces " + std::to_string(n) + " " + what + " of " +
+                     std::to_string(record()) + " bytes, more than a file of " +
+                     std::to_string(file_size) + " bytes can hold");
+  };
+
+  // The same reading as PCL's PCDReader::readHeader: trimmed lines, keywords matched by prefix,
+  // reading stops at DATA or at the first line it does not know.
+  std::size_t pos = 0, line_no = 0;
+  while (pos < head.size()) {
+    std::size_t nl = head.find('\n', pos);
+    if (nl == std::string::npos)
+      nl = head.size();
+    const std::string line = head.substr(pos, nl - pos);
+    pos = nl + 1;
+    ++line_no;
+    const auto t = tokens(line, " \t\r");
+    if (t.empty())
+      continue;
+    const std::string& key = t[0];
+    auto fail = [&](const std::string& what) {
+      throw RunError(where + "PCD header line " + std::to_string(line_no) + ": " + what);
+    };
+    auto startsWith = [&](const char* prefix) { return key.rfind(prefix, 0) == 0; };
+    auto values = [&](u64 max, const char* what) {
+      std::vector<u64> v(t.size() - 1);
+      for (std::size_t i = 1; i < t.size(); ++i)
+        if (!parseCount(t[i], max, v[i - 1]))
+          fail(std::string(what) + " '" + t[i] + "' is not a valid value");
+      return v;
+    };
+    if (startsWith("#") || startsWith("VERSION"))
+      continue;
+    if (startsWith("FIELDS") || startsWith("COLUMNS")) {
+      fields = t.size() - 1;
+      sizes.clear();
+      counts.clear();
+    } else if (startsWith("SIZE")) {
+      sizes = values(8, "SIZE");
+      if (sizes.size() != fields)
+        fail("SIZE has " + std::to_string(sizes.size()) + " values for " + std::to_string(fields) +
+             " fields");
+    } else if (startsWith("TYPE")) {
+      if (t.size() - 1 != fields || sizes.size() != fields)
+        fail("TYPE needs one value per field, after SIZE");
+      for (std::size_t i = 0; i < fields; ++i)
+        if (t[i + 1].size() != 1 || !knownPcdType(sizes[i], t[i + 1][0]))
+          fail("TYPE '" + t[i + 1] + "' with SIZE " + std::to_string(sizes[i]) +
+               " is not a type PCL reads");
+    } else if (startsWith("COUNT")) {
+      counts = values(1u << 20, "COUNT");
+      if (counts.size() != fields || std::count(counts.begin(), counts.end(), 0u) > 0)
+        fail("COUNT needs one positive value per field");
+    } else if (startsWith("WIDTH") || startsWith("HEIGHT") || startsWith("POINTS")) {
+      if (t.size() != 2)
+        fail("'" + key + "' needs one value");
+      u64 v = 0;
+      if (!parseCount(t[1], file_size, v))
+        fail("the header announces an impossible number of points ('" + line + "')");
+      (startsWith("WIDTH") ? width : startsWith("HEIGHT") ? height : points) = v;
+      if (startsWith("POINTS"))
+        checkFits(points, "points");  // PCL allocates here
+    } else if (startsWith("VIEWPOINT")) {
+      continue;
+    } else if (startsWith("DATA")) {
+      if (t.size() >= 2 && t[1].rfind("binary_compressed", 0) == 0)
+        factor = 100;
+      else if (t.size() >= 2 && t[1].rfind("binary", 0) == 0)
+        factor = 1;
+      break;
+    } else {
+      break;
+    }
+  }
+  if (saturatingMul(width, height) != 0)
+    checkFits(saturatingMul(width, height), "points");
+  checkFits(points, "points");
+}
+
+std::size_t fieldTypeSize(std::uint8_t datatype) {
+  switch (datatype) {
+    case Field::INT8:
+    case Field::UINT8:
+      return 1;
+    case Field::INT16:
+    case Field::UINT16:
+      return 2;
+    case Field::INT32:
+    case Field::UINT32:
+    case Field::FLOAT32:
+      return 4;
+    case Field::FLOAT64:
+      return 8;
+    default:
+      return 0;
+  }
+}
+
+void checkPcdLayout(const pcl::PCLPointCloud2& header, const std::string& where) {
+  std::uint32_t expected = 0;
+  for (const auto& f : header.fields) {
+    const std::size_t size = fieldTypeSize(f.datatype);
+    if (size == 0 || f.count == 0 || f.offset != expected ||
+        f.offset + size * f.count > header.point_step)
+      throw RunError(where + "field '" + f.name +
+                     "' does not fit its record (inconsistent size, type or count)");
+    expected += static_cast<std::uint32_t>(size * f.count);
+  }
+  if (header.fields.empty() || expected != header.point_step)
+    throw RunError(where + "the fields do not fit the record (inconsistent size, type or count)");
+}
+
+}  // namespace slipfit::pipeline::detail
