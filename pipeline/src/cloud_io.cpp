@@ -117,69 +117,152 @@ char* printValue(char* out, char* end, const std::uint8_t* p) {
   return std::to_chars(out, end, v).ptr;
 }
 
-/// ASCII PLY with exact values. PCL 1.13's PLYWriter::writeASCII prints PCLPointCloud2 values with
-/// 6 significant digits whatever its precision argument, which loses data; binary output goes
-/// through PCL.
-void writeAsciiPly(const pcl::PCLPointCloud2& blob, const std::string& path) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out)
-    throw RunError("output '" + path + "': cannot be opened for writing");
-  out << "ply\nformat ascii 1.0\ncomment slipfit\nelement vertex " << blob.width * blob.height
-      << "\n";
-  for (const auto& f : blob.fields) {
-    // MeshLab and CloudCompare know normals as nx, ny, nz (PCL's binary writer renames them too).
+/// Where the values of each written field live: a pointer to the first one and a stride, so that
+/// rows can be packed chunk by chunk straight from the point data.
+struct Column {
+  const std::uint8_t* base;
+  std::size_t stride;
+  std::size_t size;
+};
+
+/// The fields a cloud is written with (header.fields, point_step, width; no data) and their
+/// sources.
+struct RowLayout {
+  pcl::PCLPointCloud2 header;
+  std::vector<Column> columns;
+
+  /// Rows [first, first + count) packed into \a out (count × point_step bytes).
+  void pack(std::size_t first, std::size_t count, std::uint8_t* out) const {
+    for (std::size_t i = 0; i < count; ++i) {
+      std::uint8_t* row = out + i * header.point_step;
+      for (std::size_t c = 0; c < columns.size(); ++c)
+        std::memcpy(row + header.fields[c].offset,
+                    columns[c].base + (first + i) * columns[c].stride, columns[c].size);
+    }
+  }
+};
+
+RowLayout rowLayout(const PointData& data) {
+  const auto& cloud = *data.cloud;
+  const std::size_t n = cloud.size();
+  RowLayout layout;
+  pcl::PCLPointCloud2& h = layout.header;
+  h.height = 1;
+  h.width = static_cast<std::uint32_t>(n);
+  h.is_bigendian = false;
+  h.is_dense = true;
+  auto add = [&](const std::string& name, std::uint8_t type, const void* base, std::size_t stride) {
+    appendField(h, name, type);
+    layout.columns.push_back({static_cast<const std::uint8_t*>(base), stride, fieldTypeSize(type)});
+  };
+  const auto* first = reinterpret_cast<const std::uint8_t*>(cloud.data());
+  const std::size_t ps = sizeof(pcl::PointNormal);
+  add("x", Field::FLOAT32, first + offsetof(pcl::PointNormal, x), ps);
+  add("y", Field::FLOAT32, first + offsetof(pcl::PointNormal, y), ps);
+  add("z", Field::FLOAT32, first + offsetof(pcl::PointNormal, z), ps);
+  if (data.has_normals) {
+    add("normal_x", Field::FLOAT32, first + offsetof(pcl::PointNormal, normal_x), ps);
+    add("normal_y", Field::FLOAT32, first + offsetof(pcl::PointNormal, normal_y), ps);
+    add("normal_z", Field::FLOAT32, first + offsetof(pcl::PointNormal, normal_z), ps);
+  }
+  if (data.has_curvature)
+    add("curvature", Field::FLOAT32, first + offsetof(pcl::PointNormal, curvature), ps);
+  const bool stage_colours = std::any_of(data.fields.begin(), data.fields.end(),
+                                         [](const auto& f) { return f.name == "red"; });
+  if (data.extra.width == n)
+    for (const auto& f : data.extra.fields) {
+      const std::uint8_t* base = data.extra.data.data() + f.offset;
+      const std::size_t stride = data.extra.point_step;
+      // PCL packs PLY colours into one 32-bit rgb(a) field (0xAARRGGBB, little-endian in
+      // memory); viewers want them back as uchar red, green, blue (alpha). A stage that colours
+      // the points (segmentation) takes the names; the input's colours then keep their field.
+      const bool packed = (f.name == "rgb" || f.name == "rgba") && fieldTypeSize(f.datatype) == 4;
+      if (packed && !stage_colours) {
+        add("red", Field::UINT8, base + 2, stride);
+        add("green", Field::UINT8, base + 1, stride);
+        add("blue", Field::UINT8, base + 0, stride);
+        if (f.name == "rgba")
+          add("alpha", Field::UINT8, base + 3, stride);
+      } else {
+        add(f.name, f.datatype, base, stride);
+      }
+    }
+  for (const auto& f : data.fields) {
+    const std::size_t count = std::visit([](const auto& v) { return v.size(); }, f.values);
+    if (count != n)
+      throw RunError("output: field '" + f.name + "' has " + std::to_string(count) +
+                     " values for " + std::to_string(n) + " points");
+    if (const auto* v = std::get_if<std::vector<std::int32_t>>(&f.values))
+      add(f.name, Field::INT32, v->data(), sizeof(std::int32_t));
+    else if (const auto* w = std::get_if<std::vector<float>>(&f.values))
+      add(f.name, Field::FLOAT32, w->data(), sizeof(float));
+    else if (const auto* c = std::get_if<std::vector<std::uint8_t>>(&f.values))
+      add(f.name, Field::UINT8, c->data(), sizeof(std::uint8_t));
+  }
+  h.row_step = h.point_step * h.width;
+  return layout;
+}
+
+std::string plyHeader(const pcl::PCLPointCloud2& h, const char* format) {
+  std::string text = std::string("ply\nformat ") + format +
+                     " 1.0\ncomment slipfit\nelement vertex " +
+                     std::to_string(static_cast<std::size_t>(h.width) * h.height) + "\n";
+  for (const auto& f : h.fields) {
+    // MeshLab and CloudCompare know normals as nx, ny, nz.
     std::string name = f.name;
     if (name.rfind("normal_", 0) == 0)
       name = "n" + name.substr(7);
-    out << "property " << plyTypeName(f.datatype) << " " << name << "\n";
+    text += std::string("property ") + plyTypeName(f.datatype) + " " + name + "\n";
   }
-  out << "end_header\n";
-  std::string line;
+  return text + "end_header\n";
+}
+
+/// Appends one row as text: the shortest decimal that reads back to each value.
+void appendAsciiRow(const pcl::PCLPointCloud2& h, const std::uint8_t* row, std::string& line) {
   char buffer[64];
-  for (std::size_t i = 0; i < static_cast<std::size_t>(blob.width) * blob.height; ++i) {
-    line.clear();
-    const std::uint8_t* row = blob.data.data() + i * blob.point_step;
-    for (std::size_t c = 0; c < blob.fields.size(); ++c) {
-      const Field& f = blob.fields[c];
-      const std::uint8_t* p = row + f.offset;
-      char* end = buffer + sizeof(buffer);
-      char* stop = buffer;
-      switch (f.datatype) {
-        case Field::INT8:
-          stop = printValue<std::int8_t>(buffer, end, p);
-          break;
-        case Field::UINT8:
-          stop = printValue<std::uint8_t>(buffer, end, p);
-          break;
-        case Field::INT16:
-          stop = printValue<std::int16_t>(buffer, end, p);
-          break;
-        case Field::UINT16:
-          stop = printValue<std::uint16_t>(buffer, end, p);
-          break;
-        case Field::INT32:
-          stop = printValue<std::int32_t>(buffer, end, p);
-          break;
-        case Field::UINT32:
-          stop = printValue<std::uint32_t>(buffer, end, p);
-          break;
-        case Field::FLOAT32:
-          stop = printValue<float>(buffer, end, p);
-          break;
-        default:
-          stop = printValue<double>(buffer, end, p);
-          break;
-      }
-      if (c)
-        line += ' ';
-      line.append(buffer, stop);
+  for (std::size_t c = 0; c < h.fields.size(); ++c) {
+    const Field& f = h.fields[c];
+    const std::uint8_t* p = row + f.offset;
+    char* end = buffer + sizeof(buffer);
+    char* stop = buffer;
+    switch (f.datatype) {
+      case Field::INT8:
+        stop = printValue<std::int8_t>(buffer, end, p);
+        break;
+      case Field::UINT8:
+        stop = printValue<std::uint8_t>(buffer, end, p);
+        break;
+      case Field::INT16:
+        stop = printValue<std::int16_t>(buffer, end, p);
+        break;
+      case Field::UINT16:
+        stop = printValue<std::uint16_t>(buffer, end, p);
+        break;
+      case Field::INT32:
+        stop = printValue<std::int32_t>(buffer, end, p);
+        break;
+      case Field::UINT32:
+        stop = printValue<std::uint32_t>(buffer, end, p);
+        break;
+      case Field::FLOAT32:
+        stop = printValue<float>(buffer, end, p);
+        break;
+      default:
+        stop = printValue<double>(buffer, end, p);
+        break;
     }
-    line += '\n';
-    out << line;
+    if (c)
+      line += ' ';
+    line.append(buffer, stop);
   }
-  out.close();
-  if (!out)
-    throw RunError("output '" + path + "': write failed (disk full?)");
+  line += '\n';
+}
+
+bool hostIsLittleEndian() {
+  const std::uint16_t one = 1;
+  std::uint8_t first;
+  std::memcpy(&first, &one, 1);
+  return first == 1;
 }
 
 }  // namespace
@@ -361,86 +444,50 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
 }
 
 pcl::PCLPointCloud2 toBlob(const PointData& data) {
-  const auto& cloud = *data.cloud;
-  const std::size_t n = cloud.size();
-  pcl::PCLPointCloud2 blob;
-  blob.height = 1;
-  blob.width = static_cast<std::uint32_t>(n);
-  blob.is_bigendian = false;
-  blob.is_dense = true;
-
-  // Column sources: a pointer to the first value and a stride in bytes.
-  struct Column {
-    const std::uint8_t* base;
-    std::size_t stride;
-    std::size_t size;
-  };
-  std::vector<Column> columns;
-  auto add = [&](const std::string& name, std::uint8_t type, const void* base, std::size_t stride) {
-    appendField(blob, name, type);
-    columns.push_back({static_cast<const std::uint8_t*>(base), stride, fieldTypeSize(type)});
-  };
-  const auto* first = reinterpret_cast<const std::uint8_t*>(cloud.data());
-  const std::size_t ps = sizeof(pcl::PointNormal);
-  add("x", Field::FLOAT32, first + offsetof(pcl::PointNormal, x), ps);
-  add("y", Field::FLOAT32, first + offsetof(pcl::PointNormal, y), ps);
-  add("z", Field::FLOAT32, first + offsetof(pcl::PointNormal, z), ps);
-  if (data.has_normals) {
-    add("normal_x", Field::FLOAT32, first + offsetof(pcl::PointNormal, normal_x), ps);
-    add("normal_y", Field::FLOAT32, first + offsetof(pcl::PointNormal, normal_y), ps);
-    add("normal_z", Field::FLOAT32, first + offsetof(pcl::PointNormal, normal_z), ps);
-  }
-  if (data.has_curvature)
-    add("curvature", Field::FLOAT32, first + offsetof(pcl::PointNormal, curvature), ps);
-  if (data.extra.width == n)
-    for (const auto& f : data.extra.fields)
-      add(f.name, f.datatype, data.extra.data.data() + f.offset, data.extra.point_step);
-  for (const auto& f : data.fields) {
-    const std::size_t count = std::visit([](const auto& v) { return v.size(); }, f.values);
-    if (count != n)
-      throw RunError("output: field '" + f.name + "' has " + std::to_string(count) +
-                     " values for " + std::to_string(n) + " points");
-    if (const auto* v = std::get_if<std::vector<std::int32_t>>(&f.values))
-      add(f.name, Field::INT32, v->data(), sizeof(std::int32_t));
-    else if (const auto* w = std::get_if<std::vector<float>>(&f.values))
-      add(f.name, Field::FLOAT32, w->data(), sizeof(float));
-    else if (const auto* c = std::get_if<std::vector<std::uint8_t>>(&f.values))
-      add(f.name, Field::UINT8, c->data(), sizeof(std::uint8_t));
-  }
-  blob.row_step = blob.point_step * blob.width;
+  const RowLayout layout = rowLayout(data);
+  pcl::PCLPointCloud2 blob = layout.header;
   blob.data.resize(static_cast<std::size_t>(blob.row_step));
-  for (std::size_t i = 0; i < n; ++i) {
-    std::uint8_t* row = blob.data.data() + i * blob.point_step;
-    for (std::size_t c = 0; c < columns.size(); ++c)
-      std::memcpy(row + blob.fields[c].offset, columns[c].base + i * columns[c].stride,
-                  columns[c].size);
-  }
+  layout.pack(0, blob.width, blob.data.data());
   return blob;
 }
 
 void writeCloudPly(const PointData& data, const std::string& path, bool binary) {
   if (data.size() == 0)
     throw RunError("output '" + path + "': no points to write");
-  const pcl::PCLPointCloud2 blob = toBlob(data);
-  pcl::PLYWriter writer;
-  if (!binary) {
-    writeAsciiPly(blob, path);
-    return;
+  // Written in chunks straight from the point data: PCL's PLYWriter needs the whole cloud as one
+  // PCLPointCloud2 (a second copy of every point), prints ASCII values with 6 digits, and reports
+  // success on a truncated file when the disk is full.
+  const RowLayout layout = rowLayout(data);
+  const pcl::PCLPointCloud2& h = layout.header;
+  std::ofstream out(path, std::ios::binary);
+  if (!out)
+    throw RunError("output '" + path + "': cannot be opened for writing");
+  const char* format = !binary                ? "ascii"
+                       : hostIsLittleEndian() ? "binary_little_endian"
+                                              : "binary_big_endian";
+  const std::string header = plyHeader(h, format);
+  out << header;
+  constexpr std::size_t kChunk = 1 << 16;
+  std::vector<std::uint8_t> rows(kChunk * h.point_step);
+  std::string text;
+  const std::size_t n = data.size();
+  for (std::size_t first = 0; first < n && out; first += kChunk) {
+    const std::size_t count = std::min(kChunk, n - first);
+    layout.pack(first, count, rows.data());
+    if (binary) {
+      out.write(reinterpret_cast<const char*>(rows.data()),
+                static_cast<std::streamsize>(count * h.point_step));
+    } else {
+      text.clear();
+      for (std::size_t i = 0; i < count; ++i)
+        appendAsciiRow(h, rows.data() + i * h.point_step, text);
+      out << text;
+    }
   }
-  const int rc = writer.writeBinary(path, blob, Eigen::Vector4f::Zero(),
-                                    Eigen::Quaternionf::Identity(), false);
-  if (rc < 0)
-    throw RunError("output '" + path + "': cannot be written");
-  // PCL's binary writer does not report failed writes (a full disk leaves a truncated file and
-  // success): the file must be its header plus exactly the packed rows.
-  std::ifstream in(path, std::ios::binary);
-  std::string head(4096, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<std::size_t>(in.gcount()));
-  const auto end = head.find("end_header\n");
+  out.close();
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
-  if (end == std::string::npos || ec || size != end + 11 + blob.data.size())
+  if (!out || ec || (binary && size != header.size() + n * h.point_step))
     throw RunError("output '" + path + "': write failed (disk full?)");
 }
 

@@ -13,6 +13,8 @@
 
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 
 namespace slipfit::pipeline {
@@ -190,6 +192,32 @@ TEST(CloudIo, AcceptsEveryLayoutPclWrites) {
   const PointData d = readCloud(hand, NanPolicy::error, &report);
   EXPECT_EQ(d.size(), 3u);
   EXPECT_EQ(report.extra_fields, "rgba");
+}
+
+// PCL packs PLY colours into one rgb(a) field when reading; they are written back as the uchar
+// red, green, blue (alpha) that viewers show, in both encodings.
+TEST(CloudIo, ColoursComeBackAsUcharProperties) {
+  const std::string in = testing::scratchFile(
+      "colours.ply",
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty "
+      "float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar "
+      "alpha\nend_header\n0 0 0 200 100 50 25\n1 2 3 1 2 3 4\n");
+  const PointData d = readCloud(in, NanPolicy::error);
+  for (const bool binary : {true, false}) {
+    SCOPED_TRACE(binary ? "binary" : "ascii");
+    const std::string out = testing::scratchFile("colours_out.ply", "");
+    writeCloudPly(d, out, binary);
+    std::ifstream f(out, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    EXPECT_THAT(text, HasSubstr("property uchar red\nproperty uchar green\nproperty uchar "
+                                "blue\nproperty uchar alpha\n"));
+    if (!binary)
+      EXPECT_THAT(text, HasSubstr("end_header\n0 0 0 200 100 50 25\n1 2 3 1 2 3 4\n"));
+    const PointData back = readCloud(out, NanPolicy::error);
+    ASSERT_EQ(back.extra.fields.size(), 1u);
+    EXPECT_EQ(back.extra.fields[0].name, "rgba");
+    EXPECT_EQ(back.extra.data, d.extra.data);
+  }
 }
 
 std::string readError(const std::string& path, NanPolicy policy = NanPolicy::error) {
