@@ -98,16 +98,28 @@ void PointData::keepOnly(const std::vector<char>& keep) {
   if (m == n)
     return;
 
+  // Compacted vectors give their memory back (shrink_to_fit): after a subsample the full cloud's
+  // worth of capacity would otherwise stay allocated through every later stage.
   auto compact = [&](auto& vec) {
     std::size_t j = 0;
     for (std::size_t i = 0; i < n; ++i)
       if (keep[i])
         vec[j++] = vec[i];
     vec.resize(m);
+    vec.shrink_to_fit();
   };
-  compact(cloud->points);
-  cloud->width = static_cast<std::uint32_t>(m);
-  cloud->height = 1;
+  // A new cloud rather than the old one compacted: the cloud may be shared (the subsample
+  // stage keeps the full one).
+  auto kept = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  kept->reserve(m);
+  for (std::size_t i = 0; i < n; ++i)
+    if (keep[i])
+      kept->push_back((*cloud)[i]);
+  kept->header = cloud->header;
+  kept->is_dense = cloud->is_dense;
+  kept->sensor_origin_ = cloud->sensor_origin_;
+  kept->sensor_orientation_ = cloud->sensor_orientation_;
+  cloud = std::move(kept);
   for (auto& f : fields)
     std::visit(compact, f.values);
   if (extra.width == n && extra.point_step > 0) {
@@ -121,6 +133,7 @@ void PointData::keepOnly(const std::vector<char>& keep) {
     extra.width = static_cast<std::uint32_t>(m);
     extra.row_step = extra.point_step * extra.width;
     extra.data.resize(static_cast<std::size_t>(extra.row_step));
+    extra.data.shrink_to_fit();
   } else if (extra.width == n) {
     extra.width = static_cast<std::uint32_t>(m);
   }
@@ -146,7 +159,7 @@ void PointData::keepOnly(const std::vector<char>& keep) {
   }
 }
 
-void PointData::expandToFull() {
+void PointData::expandToFull(bool stage_fields) {
   if (!full)
     return;
   PointData out = std::move(*full);
@@ -163,7 +176,7 @@ void PointData::expandToFull() {
     out.has_normals = true;
     out.has_curvature = has_curvature;
   }
-  for (const auto& f : fields) {
+  for (const auto& f : stage_fields ? fields : std::vector<PointField>{}) {
     PointField expanded{f.name, {}};
     std::visit(
         [&](const auto& v) {

@@ -7,21 +7,80 @@
 #include <pcl/exceptions.h>
 
 #include <sys/resource.h>
+#include <unistd.h>
 
+#include <atomic>
 #include <chrono>
+#include <fstream>
 #include <iomanip>
 #include <ostream>
 #include <sstream>
+#include <string>
+#include <thread>
 
 namespace slipfit::pipeline {
 
 namespace {
 
-/// The process's peak resident set so far (Linux reports ru_maxrss in KiB).
-long peakMegabytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss / 1024;
+/// Peak resident memory of one step, sampled from /proc/self/statm every 5 ms by a thread
+/// (without /proc: the process's peak so far). The kernel's own high-water mark is left alone,
+/// so external tools (/usr/bin/time, bench/) still see the run's true peak.
+class StepMemory {
+ public:
+  StepMemory()
+      : sampler_([this] {
+          while (!stop_) {
+            update();
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+          }
+        }) {}
+  ~StepMemory() {
+    stop_ = true;
+    sampler_.join();
+  }
+  StepMemory(const StepMemory&) = delete;
+  StepMemory& operator=(const StepMemory&) = delete;
+
+  void reset() { peak_ = residentKiB(); }
+  long peakMegabytes() {
+    update();
+    return peak_ / 1024;
+  }
+
+ private:
+  static long residentKiB() {
+    std::ifstream statm("/proc/self/statm");
+    long pages = 0, resident = 0;
+    if (statm >> pages >> resident)
+      return resident * (sysconf(_SC_PAGESIZE) / 1024);
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_maxrss;
+  }
+  void update() {
+    const long now = residentKiB();
+    long seen = peak_.load();
+    while (now > seen && !peak_.compare_exchange_weak(seen, now)) {
+    }
+  }
+
+  std::atomic<long> peak_{0};
+  std::atomic<bool> stop_{false};
+  std::thread sampler_;  // last: starts once the members above exist
+};
+
+/// "name: 1.23 s, peak memory 456 MB (78 B per point)" for a step that started at \a start.
+void reportStep(std::ostream& report, const std::string& name,
+                std::chrono::steady_clock::time_point start, StepMemory& memory,
+                std::size_t points) {
+  const long mb = memory.peakMegabytes();
+  report << "  " << name << ": " << std::fixed << std::setprecision(2)
+         << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
+         << " s, peak memory " << mb << " MB";
+  if (points > 0)
+    report << " (" << std::setprecision(0) << static_cast<double>(mb) * 1048576.0 / points
+           << " B per point)";
+  report << "\n" << std::defaultfloat;
 }
 
 }  // namespace
@@ -44,11 +103,16 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
 
   PointData data;
   unsigned input_bits = 0;
+  StepMemory memory;
+  std::size_t points = 0;  // of the input: bytes per point are per input point
   if (!config.input.path.empty()) {
     progress.begin(1, steps, "read " + config.input.path);
+    memory.reset();
+    const auto start = std::chrono::steady_clock::now();
     ReadReport read;
     data = readCloud(config.input.path, config.input.nan, &read);
     progress.end();
+    points = data.size();
     report << "input: " << config.input.path << ": " << data.size() << " points";
     if (read.dropped)
       report << " (" << read.dropped << " non-finite dropped)";
@@ -56,6 +120,7 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
     if (!read.extra_fields.empty())
       report << ", fields: " << read.extra_fields;
     report << "\n";
+    reportStep(report, "read", start, memory, points);
     input_bits = data.available();
   }
   const std::string flow = checkDataFlow(config, input_bits);
@@ -68,9 +133,14 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
     auto& s = config.stages[i];
     // A stage's report lines wait until its progress line is finished, so the two never mix.
     std::ostringstream stage_report;
-    RunContext context{progress, stage_report, config.settings.threads, config.settings.seed,
-                       &outputs};
+    RunContext context{progress,
+                       stage_report,
+                       config.settings.threads,
+                       config.settings.seed,
+                       &outputs,
+                       !config.output.cloud.empty() || i + 1 < config.stages.size()};
     progress.begin(i + 2, steps, s.tag + " (" + s.type + ")");
+    memory.reset();
     const auto start = std::chrono::steady_clock::now();
     try {
       s.stage->run(data, context);
@@ -83,20 +153,22 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
     }
     progress.end();
     report << stage_report.str();
-    report << "  " << s.tag << ": " << std::fixed << std::setprecision(2)
-           << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
-           << " s, peak memory " << peakMegabytes() << " MB\n"
-           << std::defaultfloat;
+    if (points == 0)
+      points = data.full ? data.full->size() : data.size();  // a generated cloud
+    reportStep(report, s.tag, start, memory, points);
   }
 
-  data.expandToFull();  // a subsampled analysis is written for every input point
   progress.begin(steps, steps, "write " + config.output.dir);
+  memory.reset();
+  const auto start = std::chrono::steady_clock::now();
+  data.expandToFull();  // a subsampled analysis is written for every input point
   if (!config.output.cloud.empty())
     outputs.add(config.output.cloud, [&](const std::string& path) {
       writeCloudPly(data, path, config.output.format == PlyEncoding::binary);
     });
   const auto written = outputs.commit();
   progress.end();
+  reportStep(report, "write", start, memory, points);
   for (const auto& path : written)
     report << "wrote " << path << "\n";
   return written;

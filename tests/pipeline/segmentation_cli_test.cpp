@@ -81,6 +81,30 @@ TEST(SegmentationCli, DemoFindsTheSceneAndWritesEveryOutput) {
   EXPECT_EQ(be32(20), 768u);
 }
 
+// Every step reports its time and its own peak memory per input point; the analysis fields
+// (slippage, neighborhood sizes) are carried back to every point only when something reads
+// them: here output.cloud asks for the all-fields cloud, and the labels must agree with
+// segments.ply.
+TEST(SegmentationCli, ReportsEveryStepAndCarriesFieldsBackOnRequest) {
+  const std::string out = scratchDir("demo_all_fields");
+  const CliResult r =
+      runSlipfit("run configs/demo.yaml --set output.cloud=cloud.ply --set output.dir=" + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* step :
+       {"read", "sample", "neighborhoods", "normals", "slippage", "segments", "write"})
+    EXPECT_THAT(r.out, ::testing::ContainsRegex(std::string("  ") + step +
+                                                ": [0-9.]+ s, peak memory [0-9]+ MB \\([0-9]+ B "
+                                                "per point\\)"))
+        << step;
+  const auto all = pipeline::readCloud(out + "/cloud.ply", pipeline::NanPolicy::error);
+  const auto segments = pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
+  ASSERT_EQ(all.size(), 50000u);
+  for (const char* field : {"neighbors", "slippage_type", "slip_gap", "label", "primitive"})
+    EXPECT_EQ(all.numericField(field).size(), 50000u) << field;
+  EXPECT_EQ(all.numericField("label"), segments.numericField("label"));
+  EXPECT_TRUE(segments.numericField("slippage_type").empty());  // not in segments.ply
+}
+
 TEST(SegmentationCli, SameOutputsAcrossRunsAndThreadCounts) {
   const std::string a = scratchDir("seg_det_a"), b = scratchDir("seg_det_b");
   ASSERT_EQ(runSlipfit("run configs/demo.yaml --quiet --set threads=1 --set output.dir=" + a).code,

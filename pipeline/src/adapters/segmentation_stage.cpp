@@ -37,6 +37,10 @@ constexpr std::array<std::array<std::uint8_t, 3>, 12> kPalette{{{31, 119, 180},
                                                                 {197, 176, 213}}};
 constexpr std::array<std::uint8_t, 3> kUnassigned{170, 170, 170};
 
+Eigen::Vector3d pointAt(const pcl::PointCloud<pcl::PointNormal>& cloud, int i) {
+  return cloud[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();
+}
+
 class SegmentationStage : public Stage {
  public:
   void declare(OptionSet& o) override {
@@ -92,21 +96,24 @@ class SegmentationStage : public Stage {
           "with mode: local before it");
     if (!context.outputs)
       throw RunError("no output directory for the segmentation outputs");
-    const auto n = static_cast<Eigen::Index>(data.size());
-    Eigen::Matrix3Xd x(3, n), nn(3, n);
-    std::vector<SlippageType> types(data.size());
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const auto& p = (*data.cloud)[static_cast<std::size_t>(i)];
-      x.col(i) = p.getVector3fMap().cast<double>();
-      nn.col(i) = p.getNormalVector3fMap().cast<double>();
-      types[static_cast<std::size_t>(i)] =
-          static_cast<SlippageType>(static_cast<int>(local[static_cast<std::size_t>(i)]));
-    }
-    if (!x.allFinite())
-      throw RunError("segmentation: some points are not finite");
-    SegmentationResult result = segmentBySlippage(x, nn, *data.neighborhoods, types, parameters_);
+    // The analysis copies (doubles) live only while segmenting.
+    SegmentationResult result = [&] {
+      const auto n = static_cast<Eigen::Index>(data.size());
+      Eigen::Matrix3Xd x(3, n), nn(3, n);
+      std::vector<SlippageType> types(data.size());
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const auto& p = (*data.cloud)[static_cast<std::size_t>(i)];
+        x.col(i) = p.getVector3fMap().cast<double>();
+        nn.col(i) = p.getNormalVector3fMap().cast<double>();
+        types[static_cast<std::size_t>(i)] =
+            static_cast<SlippageType>(static_cast<int>(local[static_cast<std::size_t>(i)]));
+      }
+      if (!x.allFinite())
+        throw RunError("segmentation: some points are not finite");
+      return segmentBySlippage(x, nn, *data.neighborhoods, types, parameters_);
+    }();
     if (data.full)
-      carryToFull(data, result, x, context.threads);
+      carryToFull(data, result, context.threads, context.fields_used_later);
 
     std::vector<std::int32_t> primitive(data.size(), -1);
     std::vector<std::uint8_t> red(data.size()), green(data.size()), blue(data.size());
@@ -126,7 +133,7 @@ class SegmentationStage : public Stage {
     data.setField({"green", std::move(green)});
     data.setField({"blue", std::move(blue)});
 
-    writeReport(result, x, context);
+    writeReport(result, *data.cloud, context);
     writeClouds(data, result, context);
     if (!render_.empty())
       writeRender(data, context);
@@ -149,21 +156,21 @@ class SegmentationStage : public Stage {
   /// representative and of the representative's neighbors, the one whose primitive is nearest,
   /// when within the distance tolerance (else −1); the segments' members and distances are then
   /// those of the full cloud (the fits stay the analysis fits).
-  static void carryToFull(PointData& data, SegmentationResult& result, Eigen::Matrix3Xd& x,
-                          int threads) {
+  static void carryToFull(PointData& data, SegmentationResult& result, int threads,
+                          bool stage_fields) {
     const std::vector<std::int32_t> representative = data.representative;
     const std::shared_ptr<const Neighborhoods> hoods = data.neighborhoods;
     const std::vector<std::int32_t> analysis_labels = result.labels;
-    data.expandToFull();
+    data.expandToFull(stage_fields);
     const auto n = static_cast<Eigen::Index>(data.size());
-    x.resize(3, n);
+    const auto& cloud = *data.cloud;
     std::vector<std::int32_t> labels(data.size(), -1);
     for (auto& s : result.segments)
       s.indices.clear();
       // Per point: the distinct segments around its representative, each distance computed once.
 #pragma omp parallel for schedule(static) num_threads(threads > 0 ? threads : omp_get_num_procs())
     for (Eigen::Index i = 0; i < n; ++i) {
-      x.col(i) = (*data.cloud)[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();
+      const Eigen::Vector3d p = cloud[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();
       const std::int32_t r = representative[static_cast<std::size_t>(i)];
       if (r < 0)
         continue;
@@ -179,7 +186,7 @@ class SegmentationStage : public Stage {
         if (count < seen.size())
           seen[count++] = candidate;
         const double d =
-            distance(x.col(i), result.segments[static_cast<std::size_t>(candidate)].fit.refined);
+            distance(p, result.segments[static_cast<std::size_t>(candidate)].fit.refined);
         if (d <= best) {
           best = d;
           label = candidate;
@@ -196,7 +203,7 @@ class SegmentationStage : public Stage {
       double sum = 0.0;
       s.max_distance = 0.0;
       for (int i : s.indices) {
-        const double d = distance(x.col(i), s.fit.refined);
+        const double d = distance(pointAt(cloud, i), s.fit.refined);
         sum += d * d;
         s.max_distance = std::max(s.max_distance, d);
       }
@@ -205,7 +212,7 @@ class SegmentationStage : public Stage {
     }
   }
 
-  void writeReport(const SegmentationResult& result, const Eigen::Matrix3Xd& x,
+  void writeReport(const SegmentationResult& result, const pcl::PointCloud<pcl::PointNormal>& cloud,
                    RunContext& context) const {
     std::vector<PrimitiveRecord> records;
     for (std::size_t k = 0; k < result.segments.size(); ++k) {
@@ -220,7 +227,7 @@ class SegmentationStage : public Stage {
       r.slippage = s.slippage;
       r.inlier_distance = result.distance;
       for (int i : s.indices)
-        r.inliers += distance(x.col(i), s.fit.refined) <= result.distance ? 1 : 0;
+        r.inliers += distance(pointAt(cloud, i), s.fit.refined) <= result.distance ? 1 : 0;
       r.extra["points"] = std::to_string(s.indices.size());
       r.extra["seed_slippage_type"] = std::string(slippageTypeName(s.seed_type));
       records.push_back(std::move(r));
@@ -252,15 +259,17 @@ class SegmentationStage : public Stage {
 
   void writeRender(const PointData& data, RunContext& context) const {
     const auto n = static_cast<Eigen::Index>(data.size());
-    Eigen::Matrix3Xf x(3, n), nn(3, n);
+    // Views of the cloud's coordinates and normals (a PointNormal is 12 floats): no copies.
+    using Strided = Eigen::Map<const Eigen::Matrix3Xf, 0, Eigen::OuterStride<>>;
+    const Eigen::OuterStride<> stride(sizeof(pcl::PointNormal) / sizeof(float));
+    const Strided x(&(*data.cloud)[0].x, 3, n, stride);
+    const Strided nn(&(*data.cloud)[0].normal_x, 3, n, stride);
     Eigen::Matrix<std::uint8_t, 3, Eigen::Dynamic> rgb(3, n);
     const auto& red = std::get<std::vector<std::uint8_t>>(data.field("red")->values);
     const auto& green = std::get<std::vector<std::uint8_t>>(data.field("green")->values);
     const auto& blue = std::get<std::vector<std::uint8_t>>(data.field("blue")->values);
     for (Eigen::Index i = 0; i < n; ++i) {
       const auto u = static_cast<std::size_t>(i);
-      x.col(i) = (*data.cloud)[u].getVector3fMap();
-      nn.col(i) = (*data.cloud)[u].getNormalVector3fMap();
       rgb.col(i) << red[u], green[u], blue[u];
     }
     const std::vector<std::uint8_t> image = renderSplats(x, rgb, nn, render_parameters_);

@@ -49,8 +49,7 @@ class SubsampleStage : public Stage {
       context.report << "subsample: " << data.size() << " points, none dropped\n";
       return;
     }
-    auto full = std::make_shared<PointData>(data);
-    full->cloud = std::make_shared<pcl::PointCloud<pcl::PointNormal>>(*data.cloud);  // own copy
+    auto full = std::make_shared<PointData>(data);  // shares the cloud: keepOnly replaces ours
     full->neighborhoods.reset();
     std::vector<char> keep(data.size(), 0);
     for (std::int32_t k : s.kept)

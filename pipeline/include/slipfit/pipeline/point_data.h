@@ -59,12 +59,14 @@ struct PointData {
   /// empty when there is no such field (or it has count != 1).
   std::vector<double> numericField(const std::string& name) const;
   /// Keeps the points with keep[i] != 0, in order, in every per-point array; neighbor lists lose
-  /// the removed points and are renumbered.
+  /// the removed points and are renumbered. `cloud` is replaced, never changed in place (another
+  /// PointData may share it), and the memory of the removed points is released.
   void keepOnly(const std::vector<char>& keep);
   /// Replaces analysis data by its full-resolution data (no-op without `full`): coordinates and
   /// the input's fields from `full`, normals, curvature and stage fields copied from each point's
   /// representative. Neighborhoods are dropped (they belonged to the analysis points).
-  void expandToFull();
+  /// With \a stage_fields false the analysis's stage fields are dropped instead of expanded.
+  void expandToFull(bool stage_fields = true);
 };
 
 /// "points", "normals, neighborhoods" ...

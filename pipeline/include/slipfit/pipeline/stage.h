@@ -31,6 +31,10 @@ struct RunContext {
   /// Extra output files (meshes, reports): written under temporary names, renamed only when the
   /// whole run succeeds.
   OutputFiles* outputs = nullptr;
+  /// Whether anything after this stage reads the stage fields (a later stage, output.cloud). A
+  /// stage that carries a subsampled analysis back to every point may drop them otherwise: at
+  /// 10 million points they are hundreds of MB nobody writes.
+  bool fields_used_later = true;
 };
 
 /// A pipeline stage adapts one algorithm of slipfit::stages to PointData.
