@@ -9,6 +9,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <fstream>
@@ -42,10 +43,12 @@ class StepMemory {
   StepMemory& operator=(const StepMemory&) = delete;
 
   void reset() { peak_ = residentKiB(); }
-  long peakMegabytes() {
+  long peakKiB() {
     update();
-    return peak_ / 1024;
+    return peak_;
   }
+  /// Resident memory before any data: the program and its libraries.
+  long startKiB() const { return start_; }
 
  private:
   static long residentKiB() {
@@ -64,21 +67,24 @@ class StepMemory {
     }
   }
 
-  std::atomic<long> peak_{0};
+  const long start_ = residentKiB();
+  std::atomic<long> peak_{start_};
   std::atomic<bool> stop_{false};
   std::thread sampler_;  // last: starts once the members above exist
 };
 
-/// "name: 1.23 s, peak memory 456 MB (78 B per point)" for a step that started at \a start.
+/// "name: 1.23 s, peak memory 456 MB (78 B per point)" for a step that started at \a start; the
+/// bytes per point count what the step holds above the program's own memory at start.
 void reportStep(std::ostream& report, const std::string& name,
                 std::chrono::steady_clock::time_point start, StepMemory& memory,
                 std::size_t points) {
-  const long mb = memory.peakMegabytes();
+  const long kib = memory.peakKiB();
   report << "  " << name << ": " << std::fixed << std::setprecision(2)
          << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
-         << " s, peak memory " << mb << " MB";
+         << " s, peak memory " << kib / 1024 << " MB";
   if (points > 0)
-    report << " (" << std::setprecision(0) << static_cast<double>(mb) * 1048576.0 / points
+    report << " (" << std::setprecision(0)
+           << static_cast<double>(std::max(0L, kib - memory.startKiB())) * 1024.0 / points
            << " B per point)";
   report << "\n" << std::defaultfloat;
 }
