@@ -19,16 +19,16 @@ using u64 = unsigned long long;
 
 constexpr std::size_t kMaxHeaderBytes = 1 << 20;
 
-/// The first \a limit bytes of the file, and its size.
+/// The file's first kMaxHeaderBytes (fewer when it is shorter), and its size.
 std::string readHead(const std::string& path, u64& file_size) {
-  std::ifstream in(path, std::ios::binary);
-  std::string head(kMaxHeaderBytes, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<std::size_t>(in.gcount()));
   std::error_code ec;
   file_size = std::filesystem::file_size(path, ec);
   if (ec)
-    file_size = head.size();
+    file_size = 0;
+  std::ifstream in(path, std::ios::binary);
+  std::string head(static_cast<std::size_t>(std::min<u64>(file_size, kMaxHeaderBytes)), '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
   return head;
 }
 
