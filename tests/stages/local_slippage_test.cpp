@@ -1,6 +1,7 @@
 #include "slipfit/local_slippage.h"
 
 #include "shapes.h"
+#include "shared_neighborhoods.h"
 #include "slipfit/exceptions.h"
 #include "slipfit/neighborhood_selection.h"
 
@@ -12,13 +13,7 @@ namespace {
 /// Fraction of points whose neighborhood is classified as \a type.
 double fraction(const testing::Cloud& c, int k, SlippageType type) {
   auto cloud = std::make_shared<testing::Cloud>(c);
-  NeighborhoodSelection<pcl::PointNormal> s;
-  NeighborhoodParameters np;
-  np.k = k;
-  s.setParameters(np);
-  s.setInputCloud(cloud);
-  auto hoods = std::make_shared<Neighborhoods>();
-  s.compute(*hoods);
+  const auto hoods = testing::knnNeighborhoods(cloud, k);
   LocalSlippage<pcl::PointNormal> local;
   local.setInputCloud(cloud);
   local.setNeighborhoods(hoods);
