@@ -3,7 +3,6 @@
 #include "shapes.h"
 #include "shared_neighborhoods.h"
 #include "slipfit/exceptions.h"
-#include "slipfit/neighborhood_selection.h"
 
 #include <gtest/gtest.h>
 
