@@ -396,6 +396,12 @@ void checkPcdLayout(const pcl::PCLPointCloud2& header, const std::string& where)
   }
   if (header.fields.empty() || expected != header.point_step)
     throw RunError(where + "the fields do not fit the record (inconsistent size, type or count)");
+  // PCL sizes its buffer when it meets POINTS, with the record known by then; a SIZE or COUNT
+  // line after it makes the buffer too small for what its reader then writes.
+  if (header.data.size() != static_cast<std::size_t>(header.width) * header.height * expected)
+    throw RunError(where +
+                   "the POINTS line comes before the record layout is complete (SIZE, "
+                   "TYPE and COUNT must precede it)");
 }
 
 }  // namespace slipfit::pipeline::detail

@@ -28,7 +28,8 @@ void checkPcdHeaderText(const std::string& path, const std::string& where);
 std::size_t fieldTypeSize(std::uint8_t datatype);
 
 /// After PCL's PCDReader::readHeader, before PCDReader::read: every field must have a known type
-/// and the fields must tile the record exactly (PCL writes each value with the size of its TYPE).
+/// and the fields must tile the record exactly (PCL writes each value with the size of its TYPE),
+/// and the buffer PCL sized at the POINTS line must hold every record.
 void checkPcdLayout(const pcl::PCLPointCloud2& header, const std::string& where);
 
 }  // namespace slipfit::pipeline::detail
