@@ -43,6 +43,24 @@ std::vector<std::string> tokens(const std::string& line, const char* separators)
   return out;
 }
 
+/// Fields between runs of separators, with an empty first or last field when the line starts or
+/// ends with a separator (boost::split with token_compress_on, as PCL splits obj_info lines).
+std::vector<std::string> splitKeepingEnds(const std::string& line, const char* separators) {
+  std::vector<std::string> out;
+  std::size_t at = 0;
+  while (true) {
+    const std::size_t end = line.find_first_of(separators, at);
+    out.push_back(line.substr(at, end == std::string::npos ? std::string::npos : end - at));
+    if (end == std::string::npos)
+      return out;
+    at = line.find_first_not_of(separators, end);
+    if (at == std::string::npos) {
+      out.emplace_back();
+      return out;
+    }
+  }
+}
+
 /// A plain decimal number (no sign, no exponent, no trailing text) no larger than \a max.
 bool parseCount(const std::string& text, u64 max, u64& value) {
   if (text.empty() || text.size() > 19 ||
@@ -165,11 +183,14 @@ void checkPlyHeader(const std::string& path, const std::string& where) {
         fail("unsupported format '" + line + "'");
       format = t[1];
     } else if (keyword == "obj_info") {
-      if (t.size() >= 3 && (t[1] == "num_cols" || t[1] == "num_rows")) {
+      // PCL splits this line keeping an empty last token after trailing blanks, so that
+      // "obj_info num_rows " sets the height to atoi("") = 0.
+      const auto st = splitKeepingEnds(line, " \t");
+      if (st.size() >= 3 && (st[1] == "num_cols" || st[1] == "num_rows")) {
         u64 v = 0;
-        if (!parseCount(t[2], std::numeric_limits<std::int32_t>::max(), v))
-          fail("obj_info " + t[1] + " '" + t[2] + "' is not a count");
-        (t[1] == "num_cols" ? width : height) = v;
+        if (!parseCount(st[2], std::numeric_limits<std::int32_t>::max(), v) || v == 0)
+          fail("obj_info " + st[1] + " '" + st[2] + "' is not a positive count");
+        (st[1] == "num_cols" ? width : height) = v;
       }
     } else if (keyword == "element") {
       u64 count = 0;
