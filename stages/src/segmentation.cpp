@@ -61,14 +61,27 @@ DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neig
       cov += d * d.transpose();
     }
     cov /= static_cast<double>(v.size());
+    // λ₀ is the mean squared residual of the best plane through the k points: the unbiased
+    // variance divides by the k − 3 degrees of freedom left after fitting that plane.
+    const double k = static_cast<double>(v.size());
     noise.push_back(std::sqrt(
         std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly)
-                          .eigenvalues()(0))));
+                          .eigenvalues()(0)) *
+        k / (k - 3.0)));
   }
   return {median(std::move(noise)), median(std::move(spacing))};
 }
 
 constexpr std::size_t kSubset = 20000;
+
+// The default tolerance: 3 σ of the estimated noise (a Gaussian keeps 99.7 % of its points) plus
+// a twentieth of the spacing, the floor for noise-free data (CAD: σ ≈ 0), where it admits float
+// rounding and the sagitta of fits made on part of a region while it grows.
+constexpr double kNoiseFactor = 3.0;
+constexpr double kSpacingFactor = 0.05;
+// The default smallest segment: an absolute count (a fraction of N starves the small shapes of a
+// large scene); small faces of CAD parts have 20–60 points.
+constexpr std::size_t kDefaultMinPoints = 20;
 
 class Grower {
  public:
@@ -233,12 +246,13 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
   SegmentationResult result;
   const DataScale scale = dataScale(points, hoods);
   result.noise = scale.noise;
-  result.distance = parameters.distance.value_or(3.0 * scale.noise + 0.25 * scale.spacing);
+  result.distance = parameters.distance.value_or(kNoiseFactor * scale.noise +
+                                                 kSpacingFactor * scale.spacing);
   if (!(result.distance > 0.0))
     throw DegenerateInputError(
         "segmentation: cannot derive a distance tolerance (all points coincide); set distance");
   result.max_angle = parameters.max_angle;
-  result.min_points = parameters.min_points.value_or(std::max<std::size_t>(30, n / 500));
+  result.min_points = parameters.min_points.value_or(kDefaultMinPoints);
   result.labels.assign(n, -1);
 
   // Seeds: points whose neighbors agree with their own primitive type, most agreement first

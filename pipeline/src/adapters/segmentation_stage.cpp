@@ -46,13 +46,13 @@ class SegmentationStage : public Stage {
   void declare(OptionSet& o) override {
     o.add("distance", parameters_.distance,
           "Largest point-to-primitive distance of a member (unset: 3 × the median local noise + "
-          "¼ of the median spacing).")
+          "1/20 of the median spacing).")
         .unit("units")
         .above(0);
     o.add("max_angle", max_angle_, "Largest angle between a member's normal and the primitive's.")
         .unit("deg")
         .range(0.1, 90);
-    o.add("min_points", min_points_, "Smallest segment (unset: max(30, N / 500)).")
+    o.add("min_points", min_points_, "Smallest segment (unset: 20).")
         .unit("points")
         .range(3, 1e9);
     o.add("merge_factor", parameters_.merge_factor,

@@ -23,11 +23,12 @@ namespace slipfit {
 
 struct SegmentationParameters {
   /// Largest point-to-primitive distance of a member, units. Unset: 3 × the median local noise
-  /// (√ of the smallest covariance eigenvalue of each neighborhood) + ¼ of the median spacing.
+  /// (√(λ₀ k / (k − 3)), λ₀ the smallest covariance eigenvalue of a neighborhood of k points)
+  /// + 1/20 of the median spacing.
   std::optional<double> distance;
   /// Largest angle between a member's normal and the primitive's (unsigned), radians, (0, π/2].
   double max_angle = 0.5235987755982988;  // 30°
-  /// Smallest segment, points. Unset: max(30, N / 500).
+  /// Smallest segment, points. Unset: 20 (an absolute count, whatever N).
   std::optional<std::size_t> min_points;
   /// Adjacent segments of one type merge when the fit of their union has an RMS distance at most
   /// this factor times the larger of theirs. [1, 10].
