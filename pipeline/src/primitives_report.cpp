@@ -25,6 +25,11 @@ void parameters(YAML::Emitter& e, const Primitive& p) {
           vec(e, "axis", s.axis);
           vec(e, "point", s.point);
           e << YAML::Key << "radius" << YAML::Value << s.radius;
+        } else if constexpr (std::is_same_v<T, Torus>) {
+          vec(e, "axis", s.axis);
+          vec(e, "center", s.center);
+          e << YAML::Key << "major_radius" << YAML::Value << s.major_radius;
+          e << YAML::Key << "minor_radius" << YAML::Value << s.minor_radius;
         } else {
           vec(e, "axis", s.axis);
           vec(e, "apex", s.apex);

@@ -3,6 +3,8 @@
 // the weighted centroid and scaled to unit RMS radius; plus fitPrimitive and fitAuto.
 #include "slipfit/weighted_fit.h"
 
+#include "slipfit/model_selection.h"
+
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <unsupported/Eigen/NumericalDiff>
 
@@ -31,6 +33,10 @@ Primitive toNormalised(const Primitive& p, const Eigen::Vector3d& o, double s) {
         } else if constexpr (std::is_same_v<T, Cylinder>) {
           shape.point = (shape.point - o) / s;
           shape.radius /= s;
+        } else if constexpr (std::is_same_v<T, Torus>) {
+          shape.center = (shape.center - o) / s;
+          shape.major_radius /= s;
+          shape.minor_radius /= s;
         } else {
           shape.apex = (shape.apex - o) / s;
         }
@@ -51,6 +57,10 @@ Primitive fromNormalised(const Primitive& p, const Eigen::Vector3d& o, double s)
         } else if constexpr (std::is_same_v<T, Cylinder>) {
           shape.point = shape.point * s + o;
           shape.radius *= s;
+        } else if constexpr (std::is_same_v<T, Torus>) {
+          shape.center = shape.center * s + o;
+          shape.major_radius *= s;
+          shape.minor_radius *= s;
         } else {
           shape.apex = shape.apex * s + o;
         }
@@ -81,7 +91,7 @@ struct Chart {
     v = dir.cross(u);
   }
   int size() const {
-    static constexpr int kSizes[] = {3, 4, 5, 6};
+    static constexpr int kSizes[] = {3, 4, 5, 6, 7};
     return kSizes[base.index()];
   }
   Eigen::Vector3d turn(const Eigen::Vector3d& dir, double a, double b) const {
@@ -101,6 +111,11 @@ struct Chart {
             shape.axis = turn(shape.axis, x[0], x[1]);
             shape.point += x[2] * u + x[3] * v;
             shape.radius += x[4];
+          } else if constexpr (std::is_same_v<T, Torus>) {
+            shape.axis = turn(shape.axis, x[0], x[1]);
+            shape.center += x.segment<3>(2);
+            shape.major_radius += x[5];
+            shape.minor_radius += x[6];
           } else {
             shape.apex += x.head<3>();
             shape.axis = turn(shape.axis, x[3], x[4]);
@@ -145,6 +160,9 @@ Primitive canonical(Primitive p, const Eigen::Vector3d& centroid) {
     c->point += c->axis.dot(centroid - c->point) * c->axis;
   } else if (auto* k = std::get_if<Cone>(&p)) {
     k->axis.normalize();
+  } else if (auto* t = std::get_if<Torus>(&p)) {
+    t->axis.normalize();
+    t->minor_radius = std::abs(t->minor_radius);
   } else if (auto* s = std::get_if<Sphere>(&p)) {
     s->radius = std::abs(s->radius);
   } else if (auto* pl = std::get_if<Plane>(&p)) {
@@ -166,6 +184,10 @@ bool valid(const Primitive& p) {
         else if constexpr (std::is_same_v<T, Cylinder>)
           return s.axis.allFinite() && s.point.allFinite() && s.radius > 0.0 &&
                  std::isfinite(s.radius);
+        else if constexpr (std::is_same_v<T, Torus>)
+          return s.axis.allFinite() && s.center.allFinite() && s.major_radius > 0.0 &&
+                 s.minor_radius > 0.0 && std::isfinite(s.major_radius) &&
+                 std::isfinite(s.minor_radius);
         else
           return s.axis.allFinite() && s.apex.allFinite() && s.half_angle > 0.0 &&
                  s.half_angle < kHalfPi;
@@ -248,6 +270,9 @@ FitResult fitPrimitive(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3
     case PrimitiveType::cone:
       r = estimateCone(points, normals, weights, options);
       break;
+    case PrimitiveType::torus:
+      r = estimateTorus(points, normals, weights, options);
+      break;
   }
   if (!r.ok())
     return r;
@@ -271,8 +296,8 @@ FitResult fitPrimitive(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3
 FitResult fitAuto(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                   const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
                   const Eigen::Ref<const Eigen::VectorXd>& weights, const FitOptions& options) {
-  // The data's squared size, to floor the mean squared distance of exact fits (loss 0) so that
-  // they still compare by complexity: the floor is (1e-10 × size)².
+  // The floor of adequacy: distances below the rounding of the coordinates carry no
+  // information (1e-7 of the data's distance from the origin and of its size: float input).
   double w = 0.0, size2 = 0.0;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (Eigen::Index i = 0; i < points.cols(); ++i)
@@ -287,37 +312,33 @@ FitResult fitAuto(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
         size2 += weights[i] * (points.col(i) - centroid).squaredNorm();
     size2 /= w;
   }
-  const double floor = 1e-20 * std::max(size2, std::numeric_limits<double>::min());
+  const double floor = 1e-7 * (std::sqrt(size2) + centroid.norm());
 
-  FitResult best;
-  double best_score = std::numeric_limits<double>::infinity();
+  std::vector<FitResult> fits;
+  std::vector<ModelCandidate> candidates;
   std::string reasons;
   for (const auto& [type, name] : kPrimitiveTypeNames) {
-    if ((type == PrimitiveType::cylinder || type == PrimitiveType::cone) &&
+    if (type != PrimitiveType::plane && type != PrimitiveType::sphere &&
         normals.cols() != points.cols()) {
       reasons += (reasons.empty() ? "" : "; ") + std::string(name) + " fit: no normals";
       continue;
     }
-    const FitResult r = fitPrimitive(type, points, normals, weights, options);
+    FitResult r = fitPrimitive(type, points, normals, weights, options);
     if (!r.ok()) {
       reasons += (reasons.empty() ? "" : "; ") + r.reason;
       continue;
     }
-    const double n = static_cast<double>(r.used_points);
-    const double mse = r.loss_refined / w;
-    const double k = static_cast<double>(minimumPoints(type));  // 3, 4, 5, 6 parameters
-    const double score = n * std::log(std::max(mse, floor)) + k * std::log(n);
-    if (score < best_score) {
-      best_score = score;
-      best = r;
-    }
+    candidates.push_back({type, r.rms_distance});
+    fits.push_back(std::move(r));
   }
-  if (!std::isfinite(best_score)) {
-    best = FitResult{};
-    best.status = FitStatus::degenerate;
-    best.reason = "no primitive type fits: " + reasons;
+  const std::optional<std::size_t> chosen = selectSimplest(candidates, floor);
+  if (!chosen) {
+    FitResult failed;
+    failed.status = FitStatus::degenerate;
+    failed.reason = "no primitive type fits: " + reasons;
+    return failed;
   }
-  return best;
+  return std::move(fits[*chosen]);
 }
 
 }  // namespace slipfit

@@ -25,6 +25,11 @@ pcl::ModelCoefficients toModelCoefficients(const Primitive& primitive) {
           push(s.point);
           push(s.axis);
           c.values.push_back(static_cast<float>(s.radius));
+        } else if constexpr (std::is_same_v<T, Torus>) {
+          c.values.push_back(static_cast<float>(s.major_radius));
+          c.values.push_back(static_cast<float>(s.minor_radius));
+          push(s.center);
+          push(s.axis);
         } else {
           push(s.apex);
           push(s.axis);

@@ -31,6 +31,11 @@ void PrimitiveSamplingParameters::validate() const {
           if (!(s.axis.allFinite() && s.axis.norm() > 0.0 && s.point.allFinite() &&
                 s.radius > 0.0 && std::isfinite(s.radius)))
             reject("the cylinder needs a finite non-zero axis, a finite point and radius > 0");
+        } else if constexpr (std::is_same_v<T, Torus>) {
+          if (!(s.axis.allFinite() && s.axis.norm() > 0.0 && s.center.allFinite() &&
+                s.minor_radius > 0.0 && s.minor_radius < s.major_radius &&
+                std::isfinite(s.major_radius)))
+            reject("the torus needs a finite non-zero axis, a finite centre and 0 < r < R");
         } else {
           if (!(s.axis.allFinite() && s.axis.norm() > 0.0 && s.apex.allFinite() &&
                 s.half_angle > 0.0 && s.half_angle < kPi / 2))
@@ -102,6 +107,19 @@ void samplePrimitive(const PrimitiveSamplingParameters& p, Eigen::Matrix3Xd& poi
             const double phi = angle(), h = p.extent_min + (p.extent - p.extent_min) * unit(rng);
             n = std::cos(phi) * u + std::sin(phi) * v;
             x = s.point + h * a + s.radius * n;
+          } else if constexpr (std::is_same_v<T, Torus>) {
+            // Area element ∝ (R + r cos α) dα dβ: β uniform over the angle range, α by rejection.
+            const Eigen::Vector3d a = s.axis.normalized();
+            const Eigen::Vector3d u = a.unitOrthogonal(), v = a.cross(u);
+            const double R = s.major_radius, r = s.minor_radius;
+            double alpha = 0.0;
+            do
+              alpha = 2 * kPi * unit(rng);
+            while (unit(rng) * (R + r) > R + r * std::cos(alpha));
+            const double beta = angle();
+            const Eigen::Vector3d radial = std::cos(beta) * u + std::sin(beta) * v;
+            n = std::cos(alpha) * radial + std::sin(alpha) * a;
+            x = s.center + R * radial + r * n;
           } else {
             const Eigen::Vector3d a = s.axis.normalized();
             const Eigen::Vector3d u = a.unitOrthogonal(), v = a.cross(u);

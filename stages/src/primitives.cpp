@@ -17,6 +17,25 @@ PrimitiveType typeOf(const Primitive& primitive) {
   return static_cast<PrimitiveType>(primitive.index());
 }
 
+bool allFinite(const Primitive& primitive) {
+  return std::visit(
+      [](const auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, Plane>)
+          return s.normal.allFinite() && std::isfinite(s.d);
+        else if constexpr (std::is_same_v<T, Sphere>)
+          return s.center.allFinite() && std::isfinite(s.radius);
+        else if constexpr (std::is_same_v<T, Cylinder>)
+          return s.axis.allFinite() && s.point.allFinite() && std::isfinite(s.radius);
+        else if constexpr (std::is_same_v<T, Cone>)
+          return s.axis.allFinite() && s.apex.allFinite() && std::isfinite(s.half_angle);
+        else
+          return s.axis.allFinite() && s.center.allFinite() && std::isfinite(s.major_radius) &&
+                 std::isfinite(s.minor_radius);
+      },
+      primitive);
+}
+
 double signedDistance(const Eigen::Vector3d& p, const Plane& s) {
   return s.normal.dot(p) - s.d;
 }
@@ -40,6 +59,15 @@ double signedDistance(const Eigen::Vector3d& p, const Cone& s) {
   if (h * c + rho * sn < 0.0)
     return v.norm();  // beyond 90° from the ray: the apex is nearest
   return rho * c - h * sn;
+}
+
+double signedDistance(const Eigen::Vector3d& p, const Torus& s) {
+  // In the half-plane through the axis and p: (ρ, z); the tube's cross-section is the circle of
+  // radius r about (R, 0), and the nearest point of the circle is along the ray from its centre.
+  const Eigen::Vector3d v = p - s.center;
+  const double z = v.dot(s.axis);
+  const double rho = (v - z * s.axis).norm();
+  return std::hypot(rho - s.major_radius, z) - s.minor_radius;
 }
 
 double signedDistance(const Eigen::Vector3d& p, const Primitive& s) {
@@ -67,6 +95,14 @@ Eigen::Vector3d surfaceNormal(const Eigen::Vector3d& p, const Primitive& s) {
   }
   if (const auto* cylinder = std::get_if<Cylinder>(&s))
     return radial(p - cylinder->point, cylinder->axis);
+  if (const auto* torus = std::get_if<Torus>(&s)) {
+    // From the nearest tube centre (on the circle of radius R) towards p.
+    const Eigen::Vector3d v = p - torus->center;
+    const Eigen::Vector3d tube = torus->major_radius * radial(v, torus->axis);
+    const Eigen::Vector3d d = v - tube;
+    const double n = d.norm();
+    return n > 0.0 ? Eigen::Vector3d(d / n) : radial(v, torus->axis);
+  }
   const auto& cone = std::get<Cone>(s);
   const Eigen::Vector3d v = p - cone.apex;
   // In the half-plane through the axis: the generator is (cos θ, sin θ) in (axis, radial), its

@@ -30,6 +30,8 @@ std::optional<PrimitiveType> primitiveTypeOf(SlippageType type) {
       return PrimitiveType::cylinder;
     case SlippageType::cone:
       return PrimitiveType::cone;
+    case SlippageType::torus:
+      return PrimitiveType::torus;
     default:
       return std::nullopt;
   }
@@ -291,6 +293,11 @@ SlippageResult classifyMotions(const NormalisedSet& set, const SlippageResult& b
       return r;
     }
     r.type = circ_rms <= options.profile_tolerance ? SlippageType::torus : SlippageType::revolution;
+    if (r.type == SlippageType::torus && circ.y() > 0.0) {
+      // The profile circle's centre (t₀, R) and radius: the torus, with its centre on the axis.
+      r.center = world(q + circ.x() * a);
+      r.primitive = Torus{a, *r.center, circ.y() * s, circ_r * s};
+    }
     return r;
   }
   SlippageResult d =
@@ -413,19 +420,7 @@ bool finiteResult(const SlippageResult& r) {
     return false;
   if (!r.primitive)
     return true;
-  return std::visit(
-      [](const auto& p) {
-        using T = std::decay_t<decltype(p)>;
-        if constexpr (std::is_same_v<T, Plane>)
-          return p.normal.allFinite() && std::isfinite(p.d);
-        else if constexpr (std::is_same_v<T, Sphere>)
-          return p.center.allFinite() && std::isfinite(p.radius);
-        else if constexpr (std::is_same_v<T, Cylinder>)
-          return p.axis.allFinite() && p.point.allFinite() && std::isfinite(p.radius);
-        else
-          return p.axis.allFinite() && p.apex.allFinite() && std::isfinite(p.half_angle);
-      },
-      *r.primitive);
+  return allFinite(*r.primitive);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "slipfit/weighted_fit.h"
 
+#include "slipfit/model_selection.h"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
@@ -19,17 +21,7 @@ std::string_view fitStatusName(FitStatus status) {
 }
 
 int minimumPoints(PrimitiveType type) {
-  switch (type) {
-    case PrimitiveType::plane:
-      return 3;
-    case PrimitiveType::sphere:
-      return 4;
-    case PrimitiveType::cylinder:
-      return 5;
-    case PrimitiveType::cone:
-      return 6;
-  }
-  return 3;
+  return parameterCount(type);  // one point per free parameter
 }
 
 namespace {
@@ -440,6 +432,93 @@ FitResult estimateCone(const Points& points, const Points& normals, const Weight
                    "cone fit: the half angle " + std::to_string(theta) + " rad is not in (0, π/2)");
   r.reciprocal_condition = std::min(apex_rcond, axis_rcond);
   r.algebraic = Cone{a, c, theta};
+  finish(r);
+  return r;
+}
+
+FitResult estimateTorus(const Points& points, const Points& normals, const Weights& weights,
+                        const FitOptions& options) {
+  Eigen::Index first = -1;
+  FitResult r = checkInput(PrimitiveType::torus, points, &normals, weights, &first);
+  if (!r.ok())
+    return r;
+  // Normalise: centre on the weighted centroid, unit weighted RMS radius.
+  double wsum = 0.0;
+  Eigen::Vector3d o = Eigen::Vector3d::Zero();
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0) {
+      wsum += weights[i];
+      o += weights[i] * (points.col(i) - points.col(first));
+    }
+  o = points.col(first) + o / wsum;
+  double s2 = 0.0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0)
+      s2 += weights[i] * (points.col(i) - o).squaredNorm();
+  const double scale = std::sqrt(s2 / wsum);
+  if (!(scale > 0.0))
+    return failure(PrimitiveType::torus, FitStatus::degenerate,
+                   "torus fit: every point is at the same place");
+  // Axis: every normal line of a surface of revolution meets its axis. The line (a, m) in Plücker
+  // coordinates (direction a, moment m = c × a) meets the normal line (nᵢ, pᵢ × nᵢ) iff
+  // a·(pᵢ × nᵢ) + nᵢ·m = 0, linear in (a, m): the axis is the eigenvector of the least eigenvalue
+  // of Σ wᵢ lᵢlᵢᵀ with lᵢ = (pᵢ × nᵢ, nᵢ) (sign-insensitive).
+  Eigen::Matrix<double, 6, 6> lines = Eigen::Matrix<double, 6, 6>::Zero();
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0) {
+      const Eigen::Vector3d n = normals.col(i).normalized();
+      const Eigen::Vector3d p = (points.col(i) - o) / scale;
+      Eigen::Matrix<double, 6, 1> l;
+      l << p.cross(n), n;
+      lines.noalias() += weights[i] * l * l.transpose();
+    }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(lines);
+  const auto lambda = eig.eigenvalues();
+  // A second small eigenvalue means the axis is not determined (a sphere: every line through the
+  // centre; a plane or a cylinder: lines at infinity and parallel lines).
+  const double axis_rcond = lambda(5) > 0.0 ? std::max(0.0, lambda(1)) / lambda(5) : 0.0;
+  if (!(axis_rcond >= options.degenerate_rcond))
+    return failure(PrimitiveType::torus, FitStatus::degenerate,
+                   "torus fit: the normal lines do not meet one axis (a sphere, plane or "
+                   "cylinder)");
+  const Eigen::Matrix<double, 6, 1> line = eig.eigenvectors().col(0);
+  Eigen::Vector3d a = line.head<3>();
+  const double an = a.norm();
+  if (!(an > 1e-9))
+    return failure(PrimitiveType::torus, FitStatus::degenerate,
+                   "torus fit: the normal lines meet at infinity (parallel normals)");
+  a /= an;
+  const Eigen::Vector3d m = line.tail<3>() / an;
+  Eigen::Vector3d c = a.cross(m);  // the axis point nearest the (normalised) origin
+  // Cross-section: in the half-plane through the axis, (ρᵢ, zᵢ) lie on the circle of radius r
+  // about (R, z₀): the algebraic (Kåsa) circle ρ² + z² + Dρ + Ez + F = 0 by weighted least squares.
+  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0) {
+      const Eigen::Vector3d v = (points.col(i) - o) / scale - c;
+      const double z = v.dot(a);
+      const double rho = (v - z * a).norm();
+      const Eigen::Vector3d row(rho, z, 1.0);
+      ata.noalias() += weights[i] * row * row.transpose();
+      atb += -weights[i] * (rho * rho + z * z) * row;
+    }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> ceig(ata, Eigen::EigenvaluesOnly);
+  const double circle_rcond =
+      ceig.eigenvalues()(2) > 0.0 ? std::max(0.0, ceig.eigenvalues()(0)) / ceig.eigenvalues()(2)
+                                  : 0.0;
+  if (!(circle_rcond >= options.degenerate_rcond))
+    return failure(PrimitiveType::torus, FitStatus::degenerate,
+                   "torus fit: the cross-section does not determine a circle");
+  const Eigen::Vector3d def = ata.ldlt().solve(atb);
+  const double major = -0.5 * def(0), z0 = -0.5 * def(1);
+  const double minor2 = 0.25 * (def(0) * def(0) + def(1) * def(1)) - def(2);
+  if (!(major > 0.0 && minor2 > 0.0 && std::isfinite(major) && std::isfinite(minor2)))
+    return failure(PrimitiveType::torus, FitStatus::degenerate,
+                   "torus fit: the cross-section circle is not off the axis (R ≤ 0)");
+  c += z0 * a;
+  r.reciprocal_condition = std::min(axis_rcond, circle_rcond);
+  r.algebraic = Torus{a, o + scale * c, scale * major, scale * std::sqrt(minor2)};
   finish(r);
   return r;
 }

@@ -18,21 +18,7 @@
 
 namespace slipfit::fuzz {
 
-inline bool finite(const slipfit::Primitive& p) {
-  return std::visit(
-      [](const auto& s) {
-        using T = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<T, slipfit::Plane>)
-          return s.normal.allFinite() && std::isfinite(s.d);
-        else if constexpr (std::is_same_v<T, slipfit::Sphere>)
-          return s.center.allFinite() && std::isfinite(s.radius);
-        else if constexpr (std::is_same_v<T, slipfit::Cylinder>)
-          return s.axis.allFinite() && s.point.allFinite() && std::isfinite(s.radius);
-        else
-          return s.axis.allFinite() && s.apex.allFinite() && std::isfinite(s.half_angle);
-      },
-      p);
-}
+inline bool finite(const slipfit::Primitive& p) { return slipfit::allFinite(p); }
 
 /// Runs the kernels on \a size bytes read as 7 doubles per point; aborts when a kernel reports
 /// success with a non-finite number. Shared by the fuzz target and the regression test.

@@ -31,6 +31,10 @@ Primitive randomPrimitive(PrimitiveType type, std::mt19937_64& rng, double size,
       return Cylinder{dir(), where, size * pos(rng)};
     case PrimitiveType::cone:
       return Cone{dir(), where, (15 + 40 * (u(rng) + 1) / 2) * kDeg};
+    case PrimitiveType::torus: {
+      const double major = size * pos(rng);  // r/R in [0.1, 0.6]
+      return Torus{dir(), where, major, major * (0.1 + 0.25 * (u(rng) + 1))};
+    }
   }
   return Plane{};
 }
@@ -80,6 +84,12 @@ double parameterError(const Primitive& fit, const Primitive& truth, double size)
           return std::max({std::sin(axisAngleDeg(f.axis, t.axis) * kDeg),
                            (v - v.dot(t.axis) * t.axis).norm() / size,
                            std::abs(f.radius - t.radius) / t.radius});
+        } else if constexpr (std::is_same_v<T, Torus>) {
+          // sin of the axis angle as ‖a × b‖ (acos near 1 loses half the digits)
+          return std::max({f.axis.normalized().cross(t.axis.normalized()).norm(),
+                           (f.center - t.center).norm() / size,
+                           std::abs(f.major_radius - t.major_radius) / t.major_radius,
+                           std::abs(f.minor_radius - t.minor_radius) / t.minor_radius});
         } else {
           return std::max({(f.axis - t.axis).norm(), (f.apex - t.apex).norm() / size,
                            std::abs(f.half_angle - t.half_angle) / t.half_angle});
@@ -135,6 +145,12 @@ TEST_P(RandomPoses, OnePercentNoise) {
             EXPECT_LT(std::abs(g.half_angle - t.half_angle) / kDeg, 1.0);
             EXPECT_LT(axisAngleDeg(g.axis, t.axis), 1.0);
           }
+          if constexpr (std::is_same_v<T, Torus>) {
+            EXPECT_LT(std::abs(g.major_radius / t.major_radius - 1), 0.01);
+            EXPECT_LT(std::abs(g.minor_radius / t.minor_radius - 1), 0.01 * t.major_radius /
+                                                                        t.minor_radius);
+            EXPECT_LT(axisAngleDeg(g.axis, t.axis), 1.0);
+          }
         },
         truth);
     EXPECT_LT(r.rms_distance, 0.02 * 1.8);  // σ√3 for isotropic noise, plus slack
@@ -177,7 +193,8 @@ TEST_P(RandomPoses, AutoSelectsTheType) {
 
 INSTANTIATE_TEST_SUITE_P(Types, RandomPoses,
                          ::testing::Values(PrimitiveType::plane, PrimitiveType::sphere,
-                                           PrimitiveType::cylinder, PrimitiveType::cone),
+                                           PrimitiveType::cylinder, PrimitiveType::cone,
+                                           PrimitiveType::torus),
                          [](const auto& info) {
                            return std::string(primitiveTypeName(info.param));
                          });

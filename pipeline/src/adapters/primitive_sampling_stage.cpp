@@ -17,13 +17,20 @@ class PrimitiveSamplingStage : public Stage {
     o.add("shape", type_, kPrimitiveTypeNames, "Primitive to sample.");
     o.add("normal", normal_, "Plane: normal n (normalised) of n·x = d.");
     o.add("d", d_, "Plane: offset d of n·x = d.").unit("units");
-    o.add("center", center_, "Sphere: centre.").unit("units");
+    o.add("center", center_, "Sphere, torus: centre.").unit("units");
     o.add("radius", radius_, "Sphere, cylinder: radius.").unit("units").above(0);
-    o.add("axis", axis_, "Cylinder, cone: axis direction (cone: from the apex into the opening).");
+    o.add("axis", axis_,
+          "Cylinder, cone, torus: axis direction (cone: from the apex into the opening).");
     o.add("point", point_, "Cylinder: a point on the axis; heights are measured from it.")
         .unit("units");
     o.add("apex", apex_, "Cone: apex.").unit("units");
     o.add("half_angle", half_angle_, "Cone: half opening angle.").unit("deg").range(0.01, 89.99);
+    o.add("major_radius", major_radius_, "Torus: radius R of the circle of tube centres.")
+        .unit("units")
+        .above(0);
+    o.add("minor_radius", minor_radius_, "Torus: tube radius r (0 < r < R).")
+        .unit("units")
+        .above(0);
     o.add("extent", p_.extent,
           "Plane: half side of the square; cylinder: largest height; cone: largest axial distance "
           "from the apex.")
@@ -33,10 +40,10 @@ class PrimitiveSamplingStage : public Stage {
           "Cylinder: smallest height; cone: smallest axial distance (a band away from the apex).")
         .unit("units")
         .atLeast(0);
-    o.add("angle_min", angle_min_, "Cylinder, cone: coverage around the axis starts here.")
+    o.add("angle_min", angle_min_, "Cylinder, cone, torus: coverage around the axis starts here.")
         .unit("deg")
         .range(0, 360);
-    o.add("angle_max", angle_max_, "Cylinder, cone: coverage around the axis ends here.")
+    o.add("angle_max", angle_max_, "Cylinder, cone, torus: coverage around the axis ends here.")
         .unit("deg")
         .range(0, 360);
     o.add("cap", cap_,
@@ -73,6 +80,10 @@ class PrimitiveSamplingStage : public Stage {
       case PrimitiveType::cone:
         p_.primitive =
             Cone{axis_.cast<double>().normalized(), apex_.cast<double>(), half_angle_ * kDegree};
+        break;
+      case PrimitiveType::torus:
+        p_.primitive = Torus{axis_.cast<double>().normalized(), center_.cast<double>(),
+                             major_radius_, minor_radius_};
         break;
     }
     p_.points = static_cast<std::size_t>(points_);
@@ -112,7 +123,7 @@ class PrimitiveSamplingStage : public Stage {
   Eigen::Vector3f normal_ = Eigen::Vector3f::UnitZ(), center_ = Eigen::Vector3f::Zero(),
                   axis_ = Eigen::Vector3f::UnitZ(), point_ = Eigen::Vector3f::Zero(),
                   apex_ = Eigen::Vector3f::Zero(), cap_axis_ = Eigen::Vector3f::UnitZ();
-  double d_ = 0.0, radius_ = 1.0, half_angle_ = 30.0;
+  double d_ = 0.0, radius_ = 1.0, half_angle_ = 30.0, major_radius_ = 1.0, minor_radius_ = 0.25;
   double angle_min_ = 0.0, angle_max_ = 360.0, cap_ = 180.0, normal_noise_ = 0.0;
   int points_ = 10000;
 };

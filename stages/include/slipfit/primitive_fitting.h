@@ -50,7 +50,8 @@ class PrimitiveFitting : public pcl::PCLBase<PointT> {
 
 /// PCL's coefficient layouts: SACMODEL_PLANE [a b c d] with ax + by + cz + d = 0;
 /// SACMODEL_SPHERE [cx cy cz r]; SACMODEL_CYLINDER [point on axis, axis direction, radius];
-/// SACMODEL_CONE [apex, axis direction (into the opening), half opening angle in radians].
+/// SACMODEL_CONE [apex, axis direction (into the opening), half opening angle in radians];
+/// SACMODEL_TORUS (PCL ≥ 1.15) [major radius, minor radius, centre, axis direction].
 pcl::ModelCoefficients toModelCoefficients(const Primitive& primitive);
 
 }  // namespace slipfit

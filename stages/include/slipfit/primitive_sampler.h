@@ -1,5 +1,5 @@
 #pragma once
-/// \file Seeded, area-uniform sampling of planes, spheres, cylinders and cones with known
+/// \file Seeded, area-uniform sampling of planes, spheres, cylinders, cones and tori with known
 /// parameters: noise, outliers, partial coverage, normal noise and random normal sign flips. The
 /// test-cloud source with known answers for fitting and slippage.
 
@@ -21,7 +21,8 @@ struct PrimitiveSamplingParameters {
   /// cone: axial distances [extent_min, extent] from the apex (a band away from it when > 0).
   double extent = 1.0;
   double extent_min = 0.0;
-  /// Angular coverage around the axis (cylinder, cone), radians, 0 ≤ min < max ≤ 2π.
+  /// Angular coverage around the axis (cylinder, cone, torus), radians, 0 ≤ min < max ≤ 2π.
+  /// The torus is sampled all around its tube, area-uniform, and needs 0 < r < R.
   double angle_min = 0.0;
   double angle_max = 2.0 * 3.14159265358979323846;
   /// Sphere: the cap of this half angle around +axis_hint (π: the whole sphere), radians.

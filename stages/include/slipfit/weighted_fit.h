@@ -2,7 +2,8 @@
 /// \file Closed-form weighted estimators of planes, spheres, cylinders and cones (the SPFN
 /// estimators of Li, Sung, Dubrovina, Yi, Guibas, CVPR 2019), refinement on the true geometric
 /// distance, and automatic type selection. Inputs: 3 × N points, 3 × N normals (cylinder, cone),
-/// N non-negative weights. Derivations: docs/THEORY.md §4.
+/// N non-negative weights.
+/// Normals are needed by the cylinder, cone and torus. Derivations: docs/THEORY.md §4.
 
 #include "slipfit/primitives.h"
 
@@ -29,7 +30,7 @@ constexpr std::array<std::pair<FitStatus, std::string_view>, 5> kFitStatusNames{
 }};
 std::string_view fitStatusName(FitStatus status);
 
-/// Minimum number of points with positive weight per type: 3, 4, 5, 6.
+/// Minimum number of points with positive weight per type: 3, 4, 5, 6, 7.
 int minimumPoints(PrimitiveType type);
 
 /// The outcome of one fit. Parameters are meaningful only when status == ok (they are never NaN).
@@ -75,6 +76,15 @@ FitResult estimateCone(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                        const Eigen::Ref<const Eigen::VectorXd>& weights,
                        const FitOptions& options = {});
 
+/// Torus: the axis is the line that meets every normal line (least squares in Plücker
+/// coordinates, normalised), the major radius, height and minor radius the algebraic circle fit
+/// of (distance from the axis, height) — docs/THEORY.md §4. Degenerate for a sphere, plane or
+/// cylinder (the axis is not determined) and when the circle centre is not off the axis.
+FitResult estimateTorus(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                        const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                        const Eigen::Ref<const Eigen::VectorXd>& weights,
+                        const FitOptions& options = {});
+
 /// Closed form, then (options.refine) Levenberg–Marquardt on Σ wᵢ D²; the refined loss never
 /// exceeds the algebraic one. \a normals may be empty (0 columns) for plane and sphere.
 FitResult fitPrimitive(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3Xd>& points,
@@ -88,9 +98,12 @@ Primitive refinePrimitive(const Primitive& initial,
                           const Eigen::Ref<const Eigen::VectorXd>& weights, int max_iterations,
                           int* iterations = nullptr);
 
-/// Fits all four types and keeps the one with the least Bayesian information criterion
-/// N ln(loss/N) + k ln N (k = 3, 4, 5, 6 parameters), so that a more complex type must explain the
-/// data clearly better. Failed fits are skipped; the result is failed only if all fail.
+/// Fits every type (those that need normals only when \a normals has one per point) and keeps
+/// the simplest adequate one (model_selection.h: within 10 % of the best RMS distance, plus a
+/// floor of 1e-7 of the data's size and distance from the origin for noise-free float data), so
+/// that a more complex type must explain the data clearly better and the degenerate limits (a
+/// cylinder of huge radius, a cone near 90°, a torus of huge R) come out as the simpler type.
+/// Failed fits are skipped; the result is failed only if all fail.
 FitResult fitAuto(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                   const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
                   const Eigen::Ref<const Eigen::VectorXd>& weights, const FitOptions& options = {});

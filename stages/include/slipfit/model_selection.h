@@ -1,0 +1,40 @@
+#pragma once
+/// \file The one rule by which slipfit chooses a primitive type: the simplest adequate model.
+/// A plane is a cylinder or sphere of infinite radius and a cone of 90°; a sphere is a torus with
+/// R = 0; a cylinder is a torus with R → ∞ and a cone of 0°. Near those limits the more complex
+/// type always fits a little better (it has more parameters), so residuals alone would never pick
+/// the plane. The rule: a type is adequate when its RMS distance is within a margin of the best
+/// type's (plus a floor for noise-free data); of the adequate types the one with the fewest
+/// parameters wins. Derivation: docs/THEORY.md §4.4. Used by fitAuto (and so by the segmentation
+/// and the primitive_fitting stage) and by the whole-cloud slippage verdict.
+
+#include "slipfit/primitives.h"
+
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+namespace slipfit {
+
+/// A fitted type and its RMS point-to-surface distance over the same points (units).
+struct ModelCandidate {
+  PrimitiveType type = PrimitiveType::plane;
+  double rms = 0.0;
+};
+
+/// Relative margin of adequacy: a type whose RMS is at most (1 + this) × the best RMS explains
+/// the data as well as the best (for Gaussian noise σ: a curvature the simpler type misses that
+/// raises its RMS by less than 10 %, i.e. a deviation below ≈ 0.46 σ, is not demanded by the data).
+constexpr double kAdequacyMargin = 0.1;
+
+/// Number of free parameters of a type: 3, 4, 5, 6, 7 (plane, sphere, cylinder, cone, torus).
+int parameterCount(PrimitiveType type);
+
+/// Index of the simplest adequate candidate: adequate when rms ≤ (1 + kAdequacyMargin) × the
+/// least rms + \a floor (units; the noise level below which distances carry no information —
+/// rounding for noise-free data), fewest parameters first, then the smaller rms, then the
+/// earlier candidate. Candidates with a non-finite rms are skipped; nullopt when none is left.
+std::optional<std::size_t> selectSimplest(const std::vector<ModelCandidate>& candidates,
+                                          double floor);
+
+}  // namespace slipfit

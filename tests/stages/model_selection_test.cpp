@@ -1,0 +1,114 @@
+// The simplest adequate primitive: the rule on exact inputs, and fitAuto at the degenerate limits
+// (a plane is a cylinder of infinite radius and a cone of 90°; a cylinder is a cone of 0° and a
+// torus of infinite R) with the margins derived in docs/THEORY.md §4.4.
+#include "slipfit/model_selection.h"
+#include "slipfit/primitive_sampler.h"
+#include "slipfit/weighted_fit.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace slipfit {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+
+TEST(SelectSimplest, FewestParametersAmongTheAdequate) {
+  // Torus best; cylinder within 10 %: the cylinder. The plane at 1.2 × is not adequate.
+  const std::vector<ModelCandidate> c = {{PrimitiveType::plane, 1.2},
+                                         {PrimitiveType::cylinder, 1.09},
+                                         {PrimitiveType::torus, 1.0}};
+  EXPECT_EQ(selectSimplest(c, 0.0), std::optional<std::size_t>(1));
+  // A floor of 0.2 admits the plane: 1.2 ≤ 1.1 + 0.2.
+  EXPECT_EQ(selectSimplest(c, 0.2), std::optional<std::size_t>(0));
+  // Just outside the margin: 1.1 × 1.0 = 1.1 < 1.1000001.
+  EXPECT_EQ(selectSimplest({{PrimitiveType::plane, 1.1000001}, {PrimitiveType::sphere, 1.0}}, 0.0),
+            std::optional<std::size_t>(1));
+}
+
+TEST(SelectSimplest, ExactFitsCompareByComplexityAndNaNIsSkipped) {
+  // Noise-free data: every type at rms 0 is adequate and the plane wins.
+  EXPECT_EQ(selectSimplest({{PrimitiveType::cone, 0.0}, {PrimitiveType::plane, 0.0}}, 0.0),
+            std::optional<std::size_t>(1));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(selectSimplest({{PrimitiveType::plane, nan}, {PrimitiveType::sphere, 2.0}}, 0.0),
+            std::optional<std::size_t>(1));
+  EXPECT_FALSE(selectSimplest({{PrimitiveType::plane, nan}}, 0.0));
+  EXPECT_FALSE(selectSimplest({}, 0.0));
+  EXPECT_EQ(parameterCount(PrimitiveType::torus), 7);
+}
+
+struct Cloud {
+  Eigen::Matrix3Xd points, normals;
+};
+
+Cloud sample(const PrimitiveSamplingParameters& p) {
+  Cloud c;
+  samplePrimitive(p, c.points, c.normals);
+  return c;
+}
+
+PrimitiveType autoType(const Cloud& c) {
+  const FitResult r = fitAuto(c.points, c.normals, Eigen::VectorXd::Ones(c.points.cols()));
+  EXPECT_TRUE(r.ok()) << r.reason;
+  return r.type;
+}
+
+TEST(FitAutoLimits, CylinderOfHugeRadiusIsAPlane) {
+  // A strip 2 wide of a cylinder of radius 1000: sagitta 2²/(8·1000) = 5e-4, a tenth of the
+  // noise σ = 5e-3: the data do not demand the curvature.
+  PrimitiveSamplingParameters p;
+  p.primitive = Cylinder{Eigen::Vector3d(1, 2, 3).normalized(), Eigen::Vector3d(1, 1, 1), 1000.0};
+  p.extent = 2.0;
+  p.angle_min = 0.0;
+  p.angle_max = 2.0 / 1000.0;  // 2 units of arc
+  p.points = 3000;
+  p.noise = 5e-3;
+  p.seed = 11;
+  EXPECT_EQ(autoType(sample(p)), PrimitiveType::plane);
+  // Radius 2 over the same strip: sagitta 0.25, fifty times the noise: a cylinder.
+  p.primitive = Cylinder{Eigen::Vector3d(1, 2, 3).normalized(), Eigen::Vector3d(1, 1, 1), 2.0};
+  p.angle_max = 1.0;
+  EXPECT_EQ(autoType(sample(p)), PrimitiveType::cylinder);
+}
+
+TEST(FitAutoLimits, FlatConeIsAPlaneAndSlimConeACylinder) {
+  PrimitiveSamplingParameters p;
+  p.points = 3000;
+  p.noise = 5e-3;
+  p.seed = 12;
+  // Half angle 89.95°: a band from 0 to 1 along the axis spans 1146 units of radius at a slope of
+  // 1/1146: the band 0.5–1 deviates from its plane by < 5e-4 ≪ σ.
+  p.primitive = Cone{Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), 89.95 * kDeg};
+  p.extent_min = 0.5e-3;
+  p.extent = 1e-3;
+  EXPECT_EQ(autoType(sample(p)), PrimitiveType::plane);
+  // Half angle 0.01°, a band of height 2 at 5000 from the apex (radius ≈ 0.87): the radius changes
+  // by 3.5e-4 along the band, a fourteenth of σ: a cylinder.
+  p.primitive = Cone{Eigen::Vector3d::UnitX(), Eigen::Vector3d::Zero(), 0.01 * kDeg};
+  p.extent_min = 5000.0;
+  p.extent = 5002.0;
+  EXPECT_EQ(autoType(sample(p)), PrimitiveType::cylinder);
+}
+
+TEST(FitAutoLimits, TorusOfHugeMajorRadiusIsACylinder) {
+  // R = 1000, r = 1, 2 units of arc around the axis: the tube bends by 2²/(8·1000) = 5e-4 ≪ σ.
+  PrimitiveSamplingParameters p;
+  p.primitive = Torus{Eigen::Vector3d(0, 1, 1).normalized(), Eigen::Vector3d(3, 0, 0), 1000.0, 1.0};
+  p.angle_min = 0.0;
+  p.angle_max = 2.0 / 1000.0;
+  p.points = 4000;
+  p.noise = 5e-3;
+  p.seed = 13;
+  EXPECT_EQ(autoType(sample(p)), PrimitiveType::cylinder);
+  // R = 3, r = 1 all around: a torus.
+  p.primitive = Torus{Eigen::Vector3d(0, 1, 1).normalized(), Eigen::Vector3d(3, 0, 0), 3.0, 1.0};
+  p.angle_max = 2 * kPi;
+  EXPECT_EQ(autoType(sample(p)), PrimitiveType::torus);
+}
+
+}  // namespace
+}  // namespace slipfit
