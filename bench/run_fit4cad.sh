@@ -20,6 +20,10 @@ if [ ! -d "$data" ]; then
   echo "run_fit4cad: $data is absent (the Fit4CAD training set); nothing to run" >&2
   exit 0
 fi
+if ! ${PYTHON:-/usr/bin/python3} -c 'import numpy, scipy' 2>/dev/null; then
+  echo "run_fit4cad: the scorer needs numpy and scipy: apt-get install python3-numpy python3-scipy" >&2
+  exit 1
+fi
 mkdir -p "$out"
 list=()
 for gt in "$data"/PC*.gt.json; do

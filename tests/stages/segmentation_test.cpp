@@ -6,6 +6,7 @@
 
 #include "slipfit/neighborhood_selection.h"
 #include "slipfit/normal_estimation.h"
+#include "slipfit/primitive_sampler.h"
 #include "slipfit/scene_sampler.h"
 #include "slipfit/segmentation_metrics.h"
 
@@ -150,6 +151,67 @@ TEST(Segmentation, SceneAtOnePercentNoiseWithOutliers) {
   const SceneRun run = segmentScene(100000, 0.01, 0.1);
   EXPECT_GE(run.score.mean_iou, 0.85);
   expectEveryPrimitiveFoundAndTyped(run);
+}
+
+// A torus (R = 1, r = 0.3) above a plane, 0.2 % noise, through the demo's k = 12: the torus is
+// one segment of type torus with its radii, the plane one plane.
+TEST(Segmentation, TorusAbovePlaneIsATorus) {
+  PrimitiveSamplingParameters tp;
+  tp.primitive = Torus{Eigen::Vector3d::UnitZ(), Eigen::Vector3d(0, 0, 1), 1.0, 0.3};
+  tp.points = 20000;
+  tp.noise = 0.002;
+  tp.seed = 21;
+  PrimitiveSamplingParameters pp;
+  pp.primitive = Plane{Eigen::Vector3d::UnitZ(), 0.0};
+  pp.extent = 2.0;
+  pp.points = 20000;
+  pp.noise = 0.002;
+  pp.seed = 22;
+  Eigen::Matrix3Xd xt, nt, xp, np;
+  samplePrimitive(tp, xt, nt);
+  samplePrimitive(pp, xp, np);
+  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  std::vector<std::int32_t> truth;
+  for (const auto* x : {&xt, &xp})
+    for (Eigen::Index i = 0; i < x->cols(); ++i) {
+      pcl::PointNormal q;
+      q.getVector3fMap() = x->col(i).cast<float>();
+      cloud->push_back(q);
+      truth.push_back(x == &xt ? 0 : 1);
+    }
+  const auto hoods = testing::knnNeighborhoods(cloud, 12);
+  testing::estimateNormals(cloud, hoods);
+  auto slippage = std::make_shared<pcl::PointCloud<PointSlippage>>();
+  LocalSlippage<pcl::PointNormal> local;
+  local.setInputCloud(cloud);
+  local.setNeighborhoods(hoods);
+  local.compute(*slippage);
+  SlippageSegmentation<pcl::PointNormal> seg;
+  seg.setInputCloud(cloud);
+  seg.setNeighborhoods(hoods);
+  seg.setLocalSlippage(slippage);
+  std::vector<pcl::PointIndices> clusters;
+  seg.segment(clusters);
+  const SegmentationResult& r = seg.result();
+  std::vector<int> predicted_types;
+  for (const auto& s : r.segments)
+    predicted_types.push_back(static_cast<int>(s.fit.type));
+  const SegmentationScore score =
+      scoreSegmentation(truth, r.labels, {static_cast<int>(PrimitiveType::torus),
+                                          static_cast<int>(PrimitiveType::plane)},
+                        predicted_types);
+  ASSERT_GE(score.match[0], 0);
+  ASSERT_GE(score.match[1], 0);
+  const Segment& torus = r.segments[static_cast<std::size_t>(score.match[0])];
+  ASSERT_EQ(torus.fit.type, PrimitiveType::torus);
+  EXPECT_EQ(r.segments[static_cast<std::size_t>(score.match[1])].fit.type, PrimitiveType::plane);
+  EXPECT_GE(score.iou[0], 0.95);
+  EXPECT_GE(score.iou[1], 0.95);
+  // σ = 0.002 over 20,000 points: the radii to 1 % (the refined fit is far better than that).
+  const auto& t = std::get<Torus>(torus.fit.refined);
+  EXPECT_NEAR(t.major_radius, 1.0, 0.01);
+  EXPECT_NEAR(t.minor_radius, 0.3, 0.003);
+  EXPECT_LT(std::acos(std::min(1.0, std::abs(t.axis.z()))), 0.1 * 3.14159265358979323846 / 180);
 }
 
 }  // namespace
