@@ -455,6 +455,61 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
     }
   }
 
+  // Boundaries: a point that the neighboring segment's primitive explains better than its own
+  // (nearer, within ε, normal within α) moves there — a plane that took the first rows of a
+  // tangent fillet gives them back. Two passes; the second on refits of the regions that changed
+  // (the others' fits are those of their current members).
+  std::vector<char> changed(regions.size(), 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (std::size_t r = 0; r < regions.size(); ++r)
+      if (alive[r] && changed[r]) {
+        FitResult refit = grower.fit(fits[r].type, regions[r]);
+        if (refit.ok())
+          fits[r] = std::move(refit);
+      }
+    std::vector<std::pair<int, std::int32_t>> moves;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::int32_t own = result.labels[i];
+      if (own < 0)
+        continue;
+      const Eigen::Vector3d p = points.col(static_cast<Eigen::Index>(i));
+      double best = distance(p, fits[static_cast<std::size_t>(own)].refined);
+      std::int32_t label = own;
+      for (pcl::index_t j : hoods[i]) {
+        const std::int32_t other = result.labels[static_cast<std::size_t>(j)];
+        if (other < 0 || other == own || other == label)
+          continue;
+        const Primitive& candidate = fits[static_cast<std::size_t>(other)].refined;
+        const double d = distance(p, candidate);
+        if (d < best && grower.accepts(static_cast<int>(i), candidate)) {
+          best = d;
+          label = other;
+        }
+      }
+      if (label != own)
+        moves.emplace_back(static_cast<int>(i), label);
+    }
+    if (moves.empty())
+      break;
+    for (const auto& [i, label] : moves) {
+      changed[static_cast<std::size_t>(result.labels[static_cast<std::size_t>(i)])] = 1;
+      changed[static_cast<std::size_t>(label)] = 1;
+      result.labels[static_cast<std::size_t>(i)] = label;
+    }
+    for (auto& region : regions)
+      region.clear();
+    for (std::size_t i = 0; i < n; ++i)
+      if (result.labels[i] >= 0)
+        regions[static_cast<std::size_t>(result.labels[i])].push_back(static_cast<int>(i));
+    for (std::size_t r = 0; r < regions.size(); ++r)
+      if (alive[r] && regions[r].size() < static_cast<std::size_t>(minimumPoints(fits[r].type))) {
+        for (int i : regions[r])
+          result.labels[static_cast<std::size_t>(i)] = -1;
+        regions[r].clear();
+        alive[r] = 0;
+      }
+  }
+
   // Points left over at creases (where estimated normals blur) join the adjacent region whose
   // primitive is nearest, when within the distance tolerance; the normal test is waived.
   for (int pass = 0, assigned = 1; assigned && pass < 2; ++pass) {
