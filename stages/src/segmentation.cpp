@@ -36,20 +36,35 @@ double median(std::vector<double> v) {
   return *mid;
 }
 
-/// The tolerance from the data: the local noise is √λ₀ of each neighborhood's covariance (the
-/// spread off its best plane), the spacing the distance to the nearest other point.
+/// The tolerance from the data: the noise from the spread of each neighborhood off its best
+/// plane, the spacing the distance to the nearest other point.
 struct DataScale {
-  double noise = 0.0;    ///< median √λ₀ of the neighborhoods
+  double noise = 0.0;    ///< σ̂, from the lower quartile of the neighborhoods' plane residuals
   double spacing = 0.0;  ///< median nearest-neighbor distance
 };
 
+double quantile(std::vector<double> v, double q) {
+  if (v.empty())
+    return 0.0;
+  auto at = v.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), at, v.end());
+  return *at;
+}
+
+/// q-quantile of χ²_ν / ν by the Wilson–Hilferty approximation, for the z-score \a z of q.
+double chiSquareQuantileOverDof(double nu, double z) {
+  const double c = 2.0 / (9.0 * nu);
+  return std::pow(std::max(0.0, 1.0 - c + z * std::sqrt(c)), 3.0);
+}
+
 DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neighborhoods& hoods) {
-  std::vector<double> noise, spacing;
+  std::vector<double> variance, spacing;
   const std::size_t n = hoods.size();
   const std::size_t stride = std::max<std::size_t>(1, n / 20000);  // a sample is enough
+  constexpr double kLowerQuartileZ = -0.6744897501960817;
   for (std::size_t i = 0; i < n; i += stride) {
     const NeighborView v = hoods[i];
-    if (v.size() < 4)
+    if (v.size() < 5)
       continue;
     spacing.push_back(std::sqrt(static_cast<double>(v.sqr_distances[1])));
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -62,15 +77,18 @@ DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neig
       cov += d * d.transpose();
     }
     cov /= static_cast<double>(v.size());
-    // λ₀ is the mean squared residual of the best plane through the k points: the unbiased
-    // variance divides by the k − 3 degrees of freedom left after fitting that plane.
+    // λ₀ is the mean squared residual of the best plane through the k points; on a smooth surface
+    // with Gaussian noise σ, k λ₀ ≈ σ² χ²_ν with ν = k − 3 degrees of freedom. Each neighborhood's
+    // value is scaled by the lower quartile of χ²_ν / ν, so that the lower quartile over all
+    // neighborhoods estimates σ²: robust to the half of them that straddle edges, thin walls or
+    // strong curvature (the median was not: a thin sheet put both faces in most neighborhoods).
     const double k = static_cast<double>(v.size());
-    noise.push_back(std::sqrt(
-        std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly)
-                          .eigenvalues()(0)) *
-        k / (k - 3.0)));
+    const double lambda0 = std::max(
+        0.0,
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly).eigenvalues()(0));
+    variance.push_back(lambda0 * k / (k - 3.0) / chiSquareQuantileOverDof(k - 3.0, kLowerQuartileZ));
   }
-  return {median(std::move(noise)), median(std::move(spacing))};
+  return {std::sqrt(quantile(std::move(variance), 0.25)), quantile(std::move(spacing), 0.5)};
 }
 
 constexpr std::size_t kSubset = 20000;

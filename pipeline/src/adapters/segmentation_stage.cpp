@@ -45,8 +45,8 @@ class SegmentationStage : public Stage {
  public:
   void declare(OptionSet& o) override {
     o.add("distance", parameters_.distance,
-          "Largest point-to-primitive distance of a member (unset: 3 × the median local noise + "
-          "1/20 of the median spacing).")
+          "Largest point-to-primitive distance of a member (unset: 3 × the noise estimated from "
+          "the neighborhoods + 1/20 of the median spacing).")
         .unit("units")
         .above(0);
     o.add("max_angle", max_angle_, "Largest angle between a member's normal and the primitive's.")

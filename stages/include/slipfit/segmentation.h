@@ -22,9 +22,9 @@
 namespace slipfit {
 
 struct SegmentationParameters {
-  /// Largest point-to-primitive distance of a member, units. Unset: 3 × the median local noise
-  /// (√(λ₀ k / (k − 3)), λ₀ the smallest covariance eigenvalue of a neighborhood of k points)
-  /// + 1/20 of the median spacing.
+  /// Largest point-to-primitive distance of a member, units. Unset: 3 σ̂ + 1/20 of the median
+  /// spacing, σ̂ the noise estimated from the lower quartile of the neighborhoods' plane
+  /// residuals λ₀ (docs/THEORY.md §6).
   std::optional<double> distance;
   /// Largest angle between a member's normal and the primitive's (unsigned), radians, (0, π/2].
   double max_angle = 0.5235987755982988;  // 30°
@@ -54,7 +54,7 @@ struct SegmentationResult {
   std::vector<std::int32_t> labels;  ///< per point: segment index, −1 unassigned
   std::vector<Segment> segments;     ///< largest first
   double distance = 0.0;             ///< the distance tolerance used
-  double noise = 0.0;                ///< the noise estimate (median √λ₀ of the neighborhoods)
+  double noise = 0.0;                ///< the noise estimate σ̂ (units)
   double max_angle = 0.0;            ///< the angle tolerance used, radians
   std::size_t min_points = 0;        ///< the smallest segment allowed
   std::size_t regions_grown = 0;     ///< seeds that were grown (kept or not)
