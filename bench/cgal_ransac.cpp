@@ -56,7 +56,8 @@ std::string pt(const Kernel::Point_3& p) {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::cerr << "usage: cgal_ransac IN.ply OUT_DIR [default|tuned] [seed]\n";
+    std::cerr << "usage: cgal_ransac IN.ply OUT_DIR [default|tuned] [seed] [given|pca] "
+                 "[epsilon cluster_epsilon min_points]\n";
     return 2;
   }
   const std::string setting = argc > 3 ? argv[3] : "default";
@@ -129,6 +130,12 @@ int main(int argc, char** argv) {
   } else if (setting != "default") {
     std::cerr << "cgal_ransac: setting must be default or tuned\n";
     return 2;
+  }
+  if (argc > 8) {
+    // Explicit values for scenes whose noise and smallest shape are known (random scenes).
+    parameters.epsilon = std::stod(argv[6]);
+    parameters.cluster_epsilon = std::stod(argv[7]);
+    parameters.min_points = std::stoul(argv[8]);
   }
   ransac.detect(parameters);
   const double seconds =

@@ -63,10 +63,27 @@ int main(int argc, char** argv) try {
   if (truth.size() != label.size())
     throw std::runtime_error("the truth and the result differ in point count");
 
-  const auto& scene = slipfit::scenePrimitives();
+  // The true type of each label: the field truth_type (random scenes), else the fixed scene's.
+  const auto& fixed_scene = slipfit::scenePrimitives();
+  std::vector<slipfit::ScenePrimitive> no_parameters;
   std::vector<int> truth_types;
-  for (const auto& p : scene)
-    truth_types.push_back(static_cast<int>(slipfit::typeOf(p.primitive)));
+  bool random_scene = false;
+  try {
+    const std::vector<std::int32_t> ttype = intField(argv[1], "truth_type");
+    random_scene = true;
+    for (std::size_t i = 0; i < truth.size(); ++i)
+      if (truth[i] >= 0) {
+        const auto l = static_cast<std::size_t>(truth[i]);
+        if (truth_types.size() <= l)
+          truth_types.resize(l + 1, -1);
+        truth_types[l] = ttype[i];
+      }
+  } catch (const std::runtime_error&) {
+    for (const auto& p : fixed_scene)
+      truth_types.push_back(static_cast<int>(slipfit::typeOf(p.primitive)));
+  }
+  // Parameter errors need the true parameters: the fixed scene's only.
+  const auto& scene = random_scene ? no_parameters : fixed_scene;
   std::int32_t segments = 0;
   for (std::int32_t l : label)
     segments = std::max(segments, l + 1);
