@@ -105,6 +105,8 @@ constexpr double kSpacingFactor = 0.05;
 // The default smallest segment: an absolute count (a fraction of N starves the small shapes of a
 // large scene); small faces of CAD parts have 20–60 points.
 constexpr std::size_t kDefaultMinPoints = 20;
+// Between a surface's RMS distance (≈ 0.33 ε) and that of a slab filled at random (0.58 ε).
+constexpr double kVolumeRatio = 0.45;
 
 class Grower {
  public:
@@ -556,6 +558,22 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
       result.labels[static_cast<std::size_t>(i)] = label;
       regions[static_cast<std::size_t>(label)].push_back(i);
       assigned = 1;
+    }
+  }
+
+  // A surface, not a volume: points spread uniformly through the slab |D| ≤ ε have an RMS
+  // distance of ε/√3 ≈ 0.58 ε; a surface with Gaussian noise (ε = 3σ) about 0.33 ε, quantized
+  // depth about 0.33 ε too, noise-free data far less. A region above kVolumeRatio ε is random
+  // points that happen to lie within ε of some primitive (a cloud of noise): it is dropped.
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    if (!alive[r])
+      continue;
+    if (rmsOf(points, regions[r], fits[r].refined, nullptr) > kVolumeRatio * result.distance) {
+      for (int i : regions[r])
+        result.labels[static_cast<std::size_t>(i)] = -1;
+      regions[r].clear();
+      alive[r] = 0;
+      ++result.volumes;
     }
   }
 

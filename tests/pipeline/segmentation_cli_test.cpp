@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <random>
 
 namespace slipfit::testing {
 namespace {
@@ -134,6 +135,32 @@ TEST(SegmentationCli, NeedsTheLocalSlippageFields) {
   EXPECT_THAT(r.err, HasSubstr("slippage_type"));
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
   EXPECT_FALSE(std::filesystem::exists(out + "/segments.ply"));
+}
+
+// A cloud with no surface in it (a Gaussian blob of 3,000 points): a valid empty report, exit 0,
+// and one line that says so.
+TEST(SegmentationCli, NoSurfaceGivesAnEmptyReportAndSaysSo) {
+  std::mt19937_64 rng(17);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::string ply = "ply\nformat ascii 1.0\nelement vertex 3000\nproperty float x\n"
+                    "property float y\nproperty float z\nend_header\n";
+  for (int i = 0; i < 3000; ++i)
+    ply += std::to_string(g(rng)) + " " + std::to_string(g(rng)) + " " + std::to_string(g(rng)) +
+           "\n";
+  const std::string in = scratchFile("blob.ply", ply);
+  const std::string out = scratchDir("blob_segments");
+  const CliResult r = runSlipfit("run configs/demo.yaml --set input.path=" + in +
+                                 " --set output.dir=" + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("segmentation: no segment: no part of the cloud is a plane"));
+  const YAML::Node report = YAML::LoadFile(out + "/primitives.yaml")["primitives"];
+  ASSERT_TRUE(report.IsSequence());
+  EXPECT_EQ(report.size(), 0u);
+  const pipeline::PointData segments =
+      pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
+  const std::vector<std::int32_t> labels = intField(segments, "label");
+  EXPECT_EQ(labels.size(), 3000u);
+  EXPECT_TRUE(std::all_of(labels.begin(), labels.end(), [](std::int32_t l) { return l == -1; }));
 }
 
 }  // namespace

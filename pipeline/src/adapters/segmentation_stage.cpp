@@ -141,6 +141,14 @@ class SegmentationStage : public Stage {
     std::size_t assigned = 0;
     for (const auto& s : result.segments)
       assigned += s.indices.size();
+    if (result.segments.empty()) {
+      context.report << "segmentation: no segment: no part of the cloud is a plane, sphere, "
+                        "cylinder, cone or torus within distance "
+                     << result.distance << " and at least " << result.min_points << " points ("
+                     << result.regions_grown << " regions grown, " << result.volumes
+                     << " of them random volumes, not surfaces); the report is empty\n";
+      return;
+    }
     context.report << "segmentation: " << result.segments.size() << " segments, " << assigned << "/"
                    << data.size() << " points assigned (distance " << result.distance << ", "
                    << result.merges << " merges)\n";

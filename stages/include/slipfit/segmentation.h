@@ -59,6 +59,9 @@ struct SegmentationResult {
   std::size_t min_points = 0;        ///< the smallest segment allowed
   std::size_t regions_grown = 0;     ///< seeds that were grown (kept or not)
   std::size_t merges = 0;            ///< pairs of segments merged
+  /// Regions dropped because their points fill the tolerance slab like random points (RMS
+  /// distance above 0.45 ε), not a surface: a cloud of noise gives no segment.
+  std::size_t volumes = 0;
 };
 
 /// Segments a cloud (3 × N points and normals, any sign) given each point's neighbors and local
