@@ -4,12 +4,13 @@
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
+#include "slipfit/cloud_maps.h"
 #include "slipfit/segmentation.h"
+#include "slipfit/segmentation_carry_back.h"
 #include "slipfit/splat_renderer.h"
 
 #include <pcl/io/png_io.h>
 
-#include <omp.h>
 
 #include <algorithm>
 #include <array>
@@ -168,56 +169,8 @@ class SegmentationStage : public Stage {
                           bool stage_fields) {
     const std::vector<std::int32_t> representative = data.representative;
     const std::shared_ptr<const Neighborhoods> hoods = data.neighborhoods;
-    const std::vector<std::int32_t> analysis_labels = result.labels;
     data.expandToFull(stage_fields);
-    const auto n = static_cast<Eigen::Index>(data.size());
-    const auto& cloud = *data.cloud;
-    std::vector<std::int32_t> labels(data.size(), -1);
-    for (auto& s : result.segments)
-      s.indices.clear();
-      // Per point: the distinct segments around its representative, each distance computed once.
-#pragma omp parallel for schedule(static) num_threads(threads > 0 ? threads : omp_get_num_procs())
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const Eigen::Vector3d p = cloud[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();
-      const std::int32_t r = representative[static_cast<std::size_t>(i)];
-      if (r < 0)
-        continue;
-      std::array<std::int32_t, 8> seen{};
-      std::size_t count = 0;
-      double best = result.distance;
-      std::int32_t label = -1;
-      for (pcl::index_t j : (*hoods)[static_cast<std::size_t>(r)]) {
-        const std::int32_t candidate = analysis_labels[static_cast<std::size_t>(j)];
-        if (candidate < 0 ||
-            std::find(seen.begin(), seen.begin() + count, candidate) != seen.begin() + count)
-          continue;
-        if (count < seen.size())
-          seen[count++] = candidate;
-        const double d =
-            distance(p, result.segments[static_cast<std::size_t>(candidate)].fit.refined);
-        if (d <= best) {
-          best = d;
-          label = candidate;
-        }
-      }
-      labels[static_cast<std::size_t>(i)] = label;
-    }
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (labels[static_cast<std::size_t>(i)] >= 0)
-        result.segments[static_cast<std::size_t>(labels[static_cast<std::size_t>(i)])]
-            .indices.push_back(static_cast<int>(i));
-    result.labels = std::move(labels);
-    for (auto& s : result.segments) {
-      double sum = 0.0;
-      s.max_distance = 0.0;
-      for (int i : s.indices) {
-        const double d = distance(pointAt(cloud, i), s.fit.refined);
-        sum += d * d;
-        s.max_distance = std::max(s.max_distance, d);
-      }
-      s.rms_distance =
-          s.indices.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(s.indices.size()));
-    }
+    carrySegmentationBack(coordinates(*data.cloud), representative, *hoods, result, threads);
   }
 
   void writeReport(const SegmentationResult& result, const pcl::PointCloud<pcl::PointNormal>& cloud,

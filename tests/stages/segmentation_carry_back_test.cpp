@@ -1,0 +1,112 @@
+// The carry-back from an analysis sample to every input point, on a cloud ten times larger than
+// its sample: a plane and a sphere, 0.2 % noise, one point per voxel (about a tenth), segmented,
+// then every input point labelled.
+#include "slipfit/segmentation_carry_back.h"
+
+#include "shared_neighborhoods.h"
+
+#include "slipfit/cloud_maps.h"
+#include "slipfit/local_slippage.h"
+#include "slipfit/primitive_sampler.h"
+#include "slipfit/subsampling.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace slipfit {
+namespace {
+
+TEST(SegmentationCarryBack, EveryInputPointGetsItsPrimitivesSegment) {
+  PrimitiveSamplingParameters plane, sphere;
+  plane.primitive = Plane{Eigen::Vector3d::UnitZ(), 0.0};
+  plane.extent = 2.0;
+  plane.points = 60000;
+  plane.noise = 0.002;
+  plane.seed = 41;
+  sphere.primitive = Sphere{Eigen::Vector3d(0, 0, 1.2), 0.6};
+  sphere.points = 40000;
+  sphere.noise = 0.002;
+  sphere.seed = 42;
+  Eigen::Matrix3Xd xp, np, xs, ns;
+  samplePrimitive(plane, xp, np);
+  samplePrimitive(sphere, xs, ns);
+  pcl::PointCloud<pcl::PointNormal> full;
+  std::vector<int> truth;
+  for (const auto* x : {&xp, &xs})
+    for (Eigen::Index i = 0; i < x->cols(); ++i) {
+      pcl::PointNormal q;
+      q.getVector3fMap() = x->col(i).cast<float>();
+      full.push_back(q);
+      truth.push_back(x == &xp ? 0 : 1);
+    }
+  // The analysis sample: one point per voxel (the demo's), about a tenth, each input point with
+  // the kept point of its voxel as representative.
+  const Subsample sub = voxelSampleTo(coordinates(full), 10000);
+  ASSERT_LT(sub.kept.size(), full.size() / 5);
+  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  for (const std::int32_t k : sub.kept)
+    cloud->push_back(full[static_cast<std::size_t>(k)]);
+  const auto hoods = testing::knnNeighborhoods(cloud, 12);
+  testing::estimateNormals(cloud, hoods);
+  auto slippage = std::make_shared<pcl::PointCloud<PointSlippage>>();
+  LocalSlippage<pcl::PointNormal> local;
+  local.setInputCloud(cloud);
+  local.setNeighborhoods(hoods);
+  local.compute(*slippage);
+  SlippageSegmentation<pcl::PointNormal> seg;
+  seg.setInputCloud(cloud);
+  seg.setNeighborhoods(hoods);
+  seg.setLocalSlippage(slippage);
+  std::vector<pcl::PointIndices> clusters;
+  seg.segment(clusters);
+  SegmentationResult result = seg.result();
+  ASSERT_EQ(result.segments.size(), 2u);
+  const double distance_used = result.distance;
+
+  SegmentationResult one = result, two = result;
+  carrySegmentationBack(coordinates(full), sub.representative, *hoods, one, 1);
+  carrySegmentationBack(coordinates(full), sub.representative, *hoods, two, 2);
+  EXPECT_EQ(one.labels, two.labels);  // any thread count
+  ASSERT_EQ(one.labels.size(), full.size());
+
+  // Each true primitive maps to one segment, of its type, holding ≥ 99.9 % of its points: ε =
+  // 3σ̂ + s/20 is 3.6σ here (σ̂ = 1.04σ), so a point is within ε of the sample's primitive with
+  // probability 99.97 % (Gaussian σ along the normal), and every point has its voxel's kept point
+  // as representative.
+  for (int t = 0; t < 2; ++t) {
+    std::vector<std::size_t> count(one.segments.size() + 1, 0);
+    std::size_t total = 0;
+    for (std::size_t i = 0; i < full.size(); ++i)
+      if (truth[i] == t) {
+        ++total;
+        ++count[static_cast<std::size_t>(one.labels[i] + 1)];
+      }
+    const auto best = std::max_element(count.begin() + 1, count.end()) - count.begin() - 1;
+    EXPECT_GE(static_cast<double>(count[static_cast<std::size_t>(best + 1)]),
+              0.999 * static_cast<double>(total))
+        << "primitive " << t;
+    EXPECT_EQ(one.segments[static_cast<std::size_t>(best)].fit.type,
+              t == 0 ? PrimitiveType::plane : PrimitiveType::sphere);
+  }
+  // Members, RMS and largest distance are the input's: RMS ≈ σ = 0.002 (the fits are the
+  // sample's), and no member beyond ε.
+  std::size_t members = 0;
+  for (const Segment& s : one.segments) {
+    members += s.indices.size();
+    EXPECT_NEAR(s.rms_distance, 0.002, 0.0004);
+    EXPECT_LE(s.max_distance, distance_used);
+    for (int i : s.indices)
+      EXPECT_GE(one.labels[static_cast<std::size_t>(i)], 0);
+  }
+  EXPECT_GT(members, 10 * sub.kept.size() * 9 / 10);
+
+  // Bad input: a representative outside the sample.
+  std::vector<std::int32_t> bad = sub.representative;
+  bad[0] = static_cast<std::int32_t>(sub.kept.size());
+  SegmentationResult three = result;
+  EXPECT_THROW(carrySegmentationBack(coordinates(full), bad, *hoods, three), DegenerateInputError);
+}
+
+}  // namespace
+}  // namespace slipfit
