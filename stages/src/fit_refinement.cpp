@@ -13,6 +13,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <string>
 
 namespace slipfit {
 
@@ -290,6 +291,17 @@ FitResult fitPrimitive(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3
       r.max_distance = std::max(r.max_distance, distance(points.col(i), r.refined));
     }
   r.rms_distance = std::sqrt(r.loss_refined / w);
+  // Finite inputs can still overflow (coordinates or weights near the double range): never
+  // report success with a NaN or inf.
+  if (!allFinite(r.algebraic) || !allFinite(r.refined) || !std::isfinite(r.rms_distance) ||
+      !std::isfinite(r.max_distance)) {
+    FitResult failed;
+    failed.type = type;
+    failed.status = FitStatus::degenerate;
+    failed.reason = std::string(primitiveTypeName(type)) +
+                    " fit: the result overflowed (coordinates or weights too large)";
+    return failed;
+  }
   return r;
 }
 

@@ -39,7 +39,8 @@ inline void checkKernels(const std::uint8_t* data, std::size_t size) {
     weights[c] = v[7 * i + 6];
   }
   for (auto type : {slipfit::PrimitiveType::plane, slipfit::PrimitiveType::sphere,
-                    slipfit::PrimitiveType::cylinder, slipfit::PrimitiveType::cone}) {
+                    slipfit::PrimitiveType::cylinder, slipfit::PrimitiveType::cone,
+                    slipfit::PrimitiveType::torus}) {
     const slipfit::FitResult fit = slipfit::fitPrimitive(type, points, normals, weights);
     if (fit.ok() &&
         (!finite(fit.refined) || !finite(fit.algebraic) || !std::isfinite(fit.rms_distance)))
