@@ -7,6 +7,7 @@
 #include "slipfit/neighborhood_selection.h"
 #include "slipfit/normal_estimation.h"
 #include "slipfit/primitive_sampler.h"
+#include "slipfit/random_scene_sampler.h"
 #include "slipfit/scene_sampler.h"
 #include "slipfit/segmentation_metrics.h"
 
@@ -251,6 +252,62 @@ TEST(Segmentation, NoiseEstimateMatchesGaussianNoise) {
     ASSERT_EQ(r.segments.size(), 1u);
     EXPECT_EQ(r.segments[0].fit.type, PrimitiveType::plane);
   }
+}
+
+// A random scene of 30 shapes of all five types (sizes over 20×, random poses, touching and
+// cutting shapes, filleted L-brackets, 500–50,000 points each, σ = 0.2 % of the median size),
+// through the demo's k = 12 (no subsample): mean IoU and type accuracy at the figures measured.
+SegmentationScore segmentRandomScene(std::uint64_t seed, double outliers) {
+  RandomSceneParameters p;
+  p.shapes = 30;
+  p.points = 150000;
+  p.noise = 0.002;
+  p.outlier_fraction = outliers;
+  p.seed = seed;
+  Eigen::Matrix3Xd x, exact;
+  std::vector<std::int32_t> truth;
+  std::vector<Primitive> primitives;
+  sampleRandomScene(p, x, exact, truth, primitives);
+  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    pcl::PointNormal q;
+    q.getVector3fMap() = x.col(i).cast<float>();
+    cloud->push_back(q);
+  }
+  const auto hoods = testing::knnNeighborhoods(cloud, 12);
+  testing::estimateNormals(cloud, hoods);
+  auto slippage = std::make_shared<pcl::PointCloud<PointSlippage>>();
+  LocalSlippage<pcl::PointNormal> local;
+  local.setInputCloud(cloud);
+  local.setNeighborhoods(hoods);
+  local.compute(*slippage);
+  SlippageSegmentation<pcl::PointNormal> seg;
+  seg.setInputCloud(cloud);
+  seg.setNeighborhoods(hoods);
+  seg.setLocalSlippage(slippage);
+  std::vector<pcl::PointIndices> clusters;
+  seg.segment(clusters);
+  std::vector<int> truth_types, predicted_types;
+  for (const auto& q : primitives)
+    truth_types.push_back(static_cast<int>(typeOf(q)));
+  for (const auto& s : seg.result().segments)
+    predicted_types.push_back(static_cast<int>(s.fit.type));
+  const SegmentationScore score =
+      scoreSegmentation(truth, seg.result().labels, truth_types, predicted_types);
+  std::cout << "random scene " << seed << ": " << seg.result().segments.size()
+            << " segments (truth 30), mean IoU " << score.mean_iou << ", type accuracy "
+            << score.type_accuracy << "\n";
+  return score;
+}
+
+TEST(Segmentation, RandomScenesOfThirtyShapes) {
+  // Measured 0.988 and 0.973 (5 % outliers), every matched type right; seeds not used in tuning.
+  const SegmentationScore clean = segmentRandomScene(21, 0.0);
+  EXPECT_GE(clean.mean_iou, 0.985);
+  EXPECT_DOUBLE_EQ(clean.type_accuracy, 1.0);
+  const SegmentationScore outliers = segmentRandomScene(22, 0.05);
+  EXPECT_GE(outliers.mean_iou, 0.97);
+  EXPECT_DOUBLE_EQ(outliers.type_accuracy, 1.0);
 }
 
 }  // namespace
