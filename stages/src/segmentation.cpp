@@ -93,7 +93,7 @@ DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neig
 
 constexpr std::size_t kSubset = 20000;
 // Choosing the type fits every type: an evenly strided 2,000 members decide it as well (the
-// RMS of each type is estimated to ~2 % from 2,000 residuals, below the 10 % margin of
+// RMS of each type is estimated to ~2 % from 2,000 residuals, far below the 25 % margin of
 // adequacy), and the chosen type is then refitted on up to kSubset.
 constexpr std::size_t kTypeSubset = 2000;
 

@@ -17,15 +17,15 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 TEST(SelectSimplest, FewestParametersAmongTheAdequate) {
-  // Torus best; cylinder within 10 %: the cylinder. The plane at 1.2 × is not adequate.
-  const std::vector<ModelCandidate> c = {{PrimitiveType::plane, 1.2},
-                                         {PrimitiveType::cylinder, 1.09},
+  // Torus best; cylinder within 25 %: the cylinder. The plane at 1.4 × is not adequate.
+  const std::vector<ModelCandidate> c = {{PrimitiveType::plane, 1.4},
+                                         {PrimitiveType::cylinder, 1.24},
                                          {PrimitiveType::torus, 1.0}};
   EXPECT_EQ(selectSimplest(c, 0.0), std::optional<std::size_t>(1));
-  // A floor of 0.2 admits the plane: 1.2 ≤ 1.1 + 0.2.
+  // A floor of 0.2 admits the plane: 1.4 ≤ 1.25 + 0.2.
   EXPECT_EQ(selectSimplest(c, 0.2), std::optional<std::size_t>(0));
-  // Just outside the margin: 1.1 × 1.0 = 1.1 < 1.1000001.
-  EXPECT_EQ(selectSimplest({{PrimitiveType::plane, 1.1000001}, {PrimitiveType::sphere, 1.0}}, 0.0),
+  // Just outside the margin: 1.25 × 1.0 = 1.25 < 1.2500001.
+  EXPECT_EQ(selectSimplest({{PrimitiveType::plane, 1.2500001}, {PrimitiveType::sphere, 1.0}}, 0.0),
             std::optional<std::size_t>(1));
 }
 

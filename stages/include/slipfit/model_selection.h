@@ -23,9 +23,11 @@ struct ModelCandidate {
 };
 
 /// Relative margin of adequacy: a type whose RMS is at most (1 + this) × the best RMS explains
-/// the data as well as the best (for Gaussian noise σ: a curvature the simpler type misses that
-/// raises its RMS by less than 10 %, i.e. a deviation below ≈ 0.46 σ, is not demanded by the data).
-constexpr double kAdequacyMargin = 0.1;
+/// the data as well as the best (for Gaussian noise σ: a systematic deviation δ the simpler type
+/// misses raises its RMS to √(σ² + δ²/2), within 25 % while δ ≲ 1.06 σ — not demanded by the
+/// data). Fit4CAD: 0.25 against 0.1 raised the type accuracy from 0.949 to 0.958 (Dice 0.873 →
+/// 0.871).
+constexpr double kAdequacyMargin = 0.25;
 
 /// Number of free parameters of a type: 3, 4, 5, 6, 7 (plane, sphere, cylinder, cone, torus).
 int parameterCount(PrimitiveType type);

@@ -99,7 +99,7 @@ Primitive refinePrimitive(const Primitive& initial,
                           int* iterations = nullptr);
 
 /// Fits every type (those that need normals only when \a normals has one per point) and keeps
-/// the simplest adequate one (model_selection.h: within 10 % of the best RMS distance, plus a
+/// the simplest adequate one (model_selection.h: within 25 % of the best RMS distance, plus a
 /// floor of 1e-7 of the data's size and distance from the origin for noise-free float data), so
 /// that a more complex type must explain the data clearly better and the degenerate limits (a
 /// cylinder of huge radius, a cone near 90°, a torus of huge R) come out as the simpler type.
