@@ -158,10 +158,13 @@ void sampleRandomScene(const RandomSceneParameters& parameters, Eigen::Matrix3Xd
       a.sampling.primitive = Plane{Eigen::Vector3d::UnitZ(), 0.0};
       a.sampling.extent = 0.5 * L;  // square of side L (y extent L as well)
       Piece f{{}, rotation, centre, weight, true};
-      f.sampling.primitive = Cylinder{Eigen::Vector3d::UnitY(), Eigen::Vector3d(0, -0.5 * L, rho), rho};
+      f.sampling.primitive =
+          Cylinder{Eigen::Vector3d::UnitY(), Eigen::Vector3d(0, -0.5 * L, rho), rho};
       f.sampling.extent = L;
-      Piece b{{}, rotation * Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix(),
-              centre + rotation * Eigen::Vector3d(rho, 0, rho + 0.5 * L), weight};
+      Piece b{{},
+              rotation * Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix(),
+              centre + rotation * Eigen::Vector3d(rho, 0, rho + 0.5 * L),
+              weight};
       b.sampling.primitive = Plane{Eigen::Vector3d::UnitZ(), 0.0};
       b.sampling.extent = 0.5 * L;
       (void)W;
@@ -176,8 +179,7 @@ void sampleRandomScene(const RandomSceneParameters& parameters, Eigen::Matrix3Xd
     LocalShape shape = localShape(type, size, rng);
     if (!pieces.empty() && u(rng) < 0.2) {
       // Touch or cut the previous shape: centres at 0.7–1.0 × the sum of the radii.
-      const Eigen::Vector3d dir =
-          Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)).normalized();
+      const Eigen::Vector3d dir = Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)).normalized();
       centre = previous + (0.7 + 0.3 * u(rng)) * (previous_radius + shape.radius) * dir;
     }
     pieces.push_back({shape.sampling, rotation, centre, weight});

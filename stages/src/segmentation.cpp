@@ -83,10 +83,11 @@ DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neig
     // neighborhoods estimates σ²: robust to the half of them that straddle edges, thin walls or
     // strong curvature (the median was not: a thin sheet put both faces in most neighborhoods).
     const double k = static_cast<double>(v.size());
-    const double lambda0 = std::max(
-        0.0,
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly).eigenvalues()(0));
-    variance.push_back(lambda0 * k / (k - 3.0) / chiSquareQuantileOverDof(k - 3.0, kLowerQuartileZ));
+    const double lambda0 =
+        std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly)
+                          .eigenvalues()(0));
+    variance.push_back(lambda0 * k / (k - 3.0) /
+                       chiSquareQuantileOverDof(k - 3.0, kLowerQuartileZ));
   }
   return {std::sqrt(quantile(std::move(variance), 0.25)), quantile(std::move(spacing), 0.5)};
 }
@@ -184,8 +185,8 @@ class Grower {
     return fit;
   }
 
-  void gather(const std::vector<int>& members, bool all, Eigen::Matrix3Xd& p,
-              Eigen::Matrix3Xd& n, std::size_t subset = kSubset) const {
+  void gather(const std::vector<int>& members, bool all, Eigen::Matrix3Xd& p, Eigen::Matrix3Xd& n,
+              std::size_t subset = kSubset) const {
     const std::size_t stride = all ? 1 : std::max<std::size_t>(1, members.size() / subset);
     const auto m = static_cast<Eigen::Index>((members.size() + stride - 1) / stride);
     p.resize(3, m);
@@ -275,8 +276,8 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
   SegmentationResult result;
   const DataScale scale = dataScale(points, hoods);
   result.noise = scale.noise;
-  result.distance = parameters.distance.value_or(kNoiseFactor * scale.noise +
-                                                 kSpacingFactor * scale.spacing);
+  result.distance =
+      parameters.distance.value_or(kNoiseFactor * scale.noise + kSpacingFactor * scale.spacing);
   if (!(result.distance > 0.0))
     throw DegenerateInputError(
         "segmentation: cannot derive a distance tolerance (all points coincide); set distance");

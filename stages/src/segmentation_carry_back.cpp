@@ -42,7 +42,8 @@ void carrySegmentationBack(
         continue;
       if (count < seen.size())
         seen[count++] = candidate;
-      const double d = distance(p, result.segments[static_cast<std::size_t>(candidate)].fit.refined);
+      const double d =
+          distance(p, result.segments[static_cast<std::size_t>(candidate)].fit.refined);
       if (d <= best) {
         best = d;
         label = candidate;

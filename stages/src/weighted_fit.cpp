@@ -504,8 +504,8 @@ FitResult estimateTorus(const Points& points, const Points& normals, const Weigh
       atb += -weights[i] * (rho * rho + z * z) * row;
     }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> ceig(ata, Eigen::EigenvaluesOnly);
-  const double circle_rcond =
-      ceig.eigenvalues()(2) > 0.0 ? std::max(0.0, ceig.eigenvalues()(0)) / ceig.eigenvalues()(2)
+  const double circle_rcond = ceig.eigenvalues()(2) > 0.0
+                                  ? std::max(0.0, ceig.eigenvalues()(0)) / ceig.eigenvalues()(2)
                                   : 0.0;
   if (!(circle_rcond >= options.degenerate_rcond))
     return failure(PrimitiveType::torus, FitStatus::degenerate,

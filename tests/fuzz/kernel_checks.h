@@ -18,7 +18,9 @@
 
 namespace slipfit::fuzz {
 
-inline bool finite(const slipfit::Primitive& p) { return slipfit::allFinite(p); }
+inline bool finite(const slipfit::Primitive& p) {
+  return slipfit::allFinite(p);
+}
 
 /// Runs the kernels on \a size bytes read as 7 doubles per point; aborts when a kernel reports
 /// success with a non-finite number. Shared by the fuzz target and the regression test.

@@ -142,15 +142,16 @@ TEST(SegmentationCli, NeedsTheLocalSlippageFields) {
 TEST(SegmentationCli, NoSurfaceGivesAnEmptyReportAndSaysSo) {
   std::mt19937_64 rng(17);
   std::normal_distribution<double> g(0.0, 1.0);
-  std::string ply = "ply\nformat ascii 1.0\nelement vertex 3000\nproperty float x\n"
-                    "property float y\nproperty float z\nend_header\n";
+  std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 3000\nproperty float x\n"
+      "property float y\nproperty float z\nend_header\n";
   for (int i = 0; i < 3000; ++i)
-    ply += std::to_string(g(rng)) + " " + std::to_string(g(rng)) + " " + std::to_string(g(rng)) +
-           "\n";
+    ply +=
+        std::to_string(g(rng)) + " " + std::to_string(g(rng)) + " " + std::to_string(g(rng)) + "\n";
   const std::string in = scratchFile("blob.ply", ply);
   const std::string out = scratchDir("blob_segments");
-  const CliResult r = runSlipfit("run configs/demo.yaml --set input.path=" + in +
-                                 " --set output.dir=" + out);
+  const CliResult r =
+      runSlipfit("run configs/demo.yaml --set input.path=" + in + " --set output.dir=" + out);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("segmentation: no segment: no part of the cloud is a plane"));
   const YAML::Node report = YAML::LoadFile(out + "/primitives.yaml")["primitives"];

@@ -18,9 +18,8 @@ constexpr double kDeg = kPi / 180.0;
 
 TEST(SelectSimplest, FewestParametersAmongTheAdequate) {
   // Torus best; cylinder within 25 %: the cylinder. The plane at 1.4 × is not adequate.
-  const std::vector<ModelCandidate> c = {{PrimitiveType::plane, 1.4},
-                                         {PrimitiveType::cylinder, 1.24},
-                                         {PrimitiveType::torus, 1.0}};
+  const std::vector<ModelCandidate> c = {
+      {PrimitiveType::plane, 1.4}, {PrimitiveType::cylinder, 1.24}, {PrimitiveType::torus, 1.0}};
   EXPECT_EQ(selectSimplest(c, 0.0), std::optional<std::size_t>(1));
   // A floor of 0.2 admits the plane: 1.4 ≤ 1.25 + 0.2.
   EXPECT_EQ(selectSimplest(c, 0.2), std::optional<std::size_t>(0));

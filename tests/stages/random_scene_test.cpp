@@ -1,8 +1,8 @@
 // The random scene generator: every surface sample lies on the primitive of its label, every
 // shape has its 500–50,000 points, the types and the fillets come out as specified, and the
 // scene is the same for the same seed.
-#include "slipfit/random_scene_sampler.h"
 #include "slipfit/exceptions.h"
+#include "slipfit/random_scene_sampler.h"
 
 #include <gtest/gtest.h>
 

@@ -197,10 +197,10 @@ TEST(Segmentation, TorusAbovePlaneIsATorus) {
   std::vector<int> predicted_types;
   for (const auto& s : r.segments)
     predicted_types.push_back(static_cast<int>(s.fit.type));
-  const SegmentationScore score =
-      scoreSegmentation(truth, r.labels, {static_cast<int>(PrimitiveType::torus),
-                                          static_cast<int>(PrimitiveType::plane)},
-                        predicted_types);
+  const SegmentationScore score = scoreSegmentation(
+      truth, r.labels,
+      {static_cast<int>(PrimitiveType::torus), static_cast<int>(PrimitiveType::plane)},
+      predicted_types);
   ASSERT_GE(score.match[0], 0);
   ASSERT_GE(score.match[1], 0);
   const Segment& torus = r.segments[static_cast<std::size_t>(score.match[0])];
@@ -244,8 +244,7 @@ TEST(Segmentation, NoiseEstimateMatchesGaussianNoise) {
       p.col(i) = (*cloud)[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();
       n.col(i) = (*cloud)[static_cast<std::size_t>(i)].getNormalVector3fMap().cast<double>();
     }
-    const std::vector<SlippageType> types(static_cast<std::size_t>(x.cols()),
-                                          SlippageType::plane);
+    const std::vector<SlippageType> types(static_cast<std::size_t>(x.cols()), SlippageType::plane);
     const SegmentationResult r = segmentBySlippage(p, n, *hoods, types);
     std::cout << "σ " << sigma << ": σ̂ / σ = " << r.noise / sigma << "\n";
     EXPECT_NEAR(r.noise / sigma, 1.0, 0.1) << "σ = " << sigma;

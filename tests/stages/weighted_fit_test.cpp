@@ -147,8 +147,8 @@ TEST_P(RandomPoses, OnePercentNoise) {
           }
           if constexpr (std::is_same_v<T, Torus>) {
             EXPECT_LT(std::abs(g.major_radius / t.major_radius - 1), 0.01);
-            EXPECT_LT(std::abs(g.minor_radius / t.minor_radius - 1), 0.01 * t.major_radius /
-                                                                        t.minor_radius);
+            EXPECT_LT(std::abs(g.minor_radius / t.minor_radius - 1),
+                      0.01 * t.major_radius / t.minor_radius);
             EXPECT_LT(axisAngleDeg(g.axis, t.axis), 1.0);
           }
         },

@@ -1,16 +1,15 @@
 #include "adapters.h"
 
+#include "slipfit/cloud_maps.h"
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
-#include "slipfit/cloud_maps.h"
 #include "slipfit/segmentation.h"
 #include "slipfit/segmentation_carry_back.h"
 #include "slipfit/splat_renderer.h"
 
 #include <pcl/io/png_io.h>
-
 
 #include <algorithm>
 #include <array>
@@ -53,9 +52,7 @@ class SegmentationStage : public Stage {
     o.add("max_angle", max_angle_, "Largest angle between a member's normal and the primitive's.")
         .unit("deg")
         .range(0.1, 90);
-    o.add("min_points", min_points_, "Smallest segment (unset: 20).")
-        .unit("points")
-        .range(3, 1e9);
+    o.add("min_points", min_points_, "Smallest segment (unset: 20).").unit("points").range(3, 1e9);
     o.add("merge_factor", parameters_.merge_factor,
           "Adjacent segments merge when the best fit of their union has an RMS distance at most "
           "this factor times the larger of theirs.")

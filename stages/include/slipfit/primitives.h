@@ -52,7 +52,7 @@ struct Cone {
 struct Torus {
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
-  double major_radius = 1.0;  ///< R, the radius of the circle of tube centres
+  double major_radius = 1.0;   ///< R, the radius of the circle of tube centres
   double minor_radius = 0.25;  ///< r, the tube's radius
 };
 
@@ -64,8 +64,8 @@ PrimitiveType typeOf(const Primitive& primitive);
 bool allFinite(const Primitive& primitive);
 
 /// Signed distance: positive outside (plane: on the normal's side; sphere, cylinder: away from the
-/// centre/axis; cone: away from the axis; torus: away from the circle of tube centres). For the cone, points whose nearest surface point is
-/// the apex get +‖p − c‖.
+/// centre/axis; cone: away from the axis; torus: away from the circle of tube centres). For the
+/// cone, points whose nearest surface point is the apex get +‖p − c‖.
 double signedDistance(const Eigen::Vector3d& p, const Plane& s);
 double signedDistance(const Eigen::Vector3d& p, const Sphere& s);
 double signedDistance(const Eigen::Vector3d& p, const Cylinder& s);
