@@ -175,23 +175,19 @@ Primitive canonical(Primitive p, const Eigen::Vector3d& centroid) {
 }
 
 bool valid(const Primitive& p) {
+  if (!allFinite(p))
+    return false;
   return std::visit(
       [](const auto& s) {
         using T = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<T, Plane>)
-          return s.normal.allFinite() && std::isfinite(s.d);
-        else if constexpr (std::is_same_v<T, Sphere>)
-          return s.center.allFinite() && s.radius > 0.0 && std::isfinite(s.radius);
-        else if constexpr (std::is_same_v<T, Cylinder>)
-          return s.axis.allFinite() && s.point.allFinite() && s.radius > 0.0 &&
-                 std::isfinite(s.radius);
+        if constexpr (std::is_same_v<T, Sphere> || std::is_same_v<T, Cylinder>)
+          return s.radius > 0.0;
         else if constexpr (std::is_same_v<T, Torus>)
-          return s.axis.allFinite() && s.center.allFinite() && s.major_radius > 0.0 &&
-                 s.minor_radius > 0.0 && std::isfinite(s.major_radius) &&
-                 std::isfinite(s.minor_radius);
+          return s.major_radius > 0.0 && s.minor_radius > 0.0;
+        else if constexpr (std::is_same_v<T, Cone>)
+          return s.half_angle > 0.0 && s.half_angle < kHalfPi;
         else
-          return s.axis.allFinite() && s.apex.allFinite() && s.half_angle > 0.0 &&
-                 s.half_angle < kHalfPi;
+          return true;
       },
       p);
 }

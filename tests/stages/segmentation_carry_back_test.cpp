@@ -3,7 +3,7 @@
 // then every input point labelled.
 #include "slipfit/segmentation_carry_back.h"
 
-#include "shared_neighborhoods.h"
+#include "segment_cloud.h"
 
 #include "slipfit/cloud_maps.h"
 #include "slipfit/local_slippage.h"
@@ -47,20 +47,9 @@ TEST(SegmentationCarryBack, EveryInputPointGetsItsPrimitivesSegment) {
   auto cloud = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
   for (const std::int32_t k : sub.kept)
     cloud->push_back(full[static_cast<std::size_t>(k)]);
-  const auto hoods = testing::knnNeighborhoods(cloud, 12);
-  testing::estimateNormals(cloud, hoods);
-  auto slippage = std::make_shared<pcl::PointCloud<PointSlippage>>();
-  LocalSlippage<pcl::PointNormal> local;
-  local.setInputCloud(cloud);
-  local.setNeighborhoods(hoods);
-  local.compute(*slippage);
-  SlippageSegmentation<pcl::PointNormal> seg;
-  seg.setInputCloud(cloud);
-  seg.setNeighborhoods(hoods);
-  seg.setLocalSlippage(slippage);
-  std::vector<pcl::PointIndices> clusters;
-  seg.segment(clusters);
-  SegmentationResult result = seg.result();
+  const testing::SegmentedCloud segmented = testing::segmentCloud(cloud, 12);
+  const auto& hoods = segmented.neighborhoods;
+  SegmentationResult result = segmented.result;
   ASSERT_EQ(result.segments.size(), 2u);
   const double distance_used = result.distance;
 

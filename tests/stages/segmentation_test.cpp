@@ -2,7 +2,7 @@
 // scene sampler segmented end to end (neighborhoods → normals → local slippage → segmentation).
 #include "slipfit/segmentation.h"
 
-#include "shared_neighborhoods.h"
+#include "segment_cloud.h"
 
 #include "slipfit/neighborhood_selection.h"
 #include "slipfit/normal_estimation.h"
@@ -87,22 +87,9 @@ SceneRun segmentScene(std::size_t points, double noise, double outliers) {
   for (Eigen::Index i = 0; i < x.cols(); ++i)
     (*cloud)[static_cast<std::size_t>(i)].getVector3fMap() = x.col(i).cast<float>();
 
-  const auto hoods = testing::knnNeighborhoods(cloud, 30);
-  testing::estimateNormals(cloud, hoods);
-  auto slippage = std::make_shared<pcl::PointCloud<PointSlippage>>();
-  LocalSlippage<pcl::PointNormal> local;
-  local.setInputCloud(cloud);
-  local.setNeighborhoods(hoods);
-  local.compute(*slippage);
-
-  SlippageSegmentation<pcl::PointNormal> seg;
-  seg.setInputCloud(cloud);
-  seg.setNeighborhoods(hoods);
-  seg.setLocalSlippage(slippage);
-  std::vector<pcl::PointIndices> clusters;
-  seg.segment(clusters);
-  SceneRun run{seg.result(), {}};
-  EXPECT_EQ(clusters.size(), run.result.segments.size());
+  const testing::SegmentedCloud segmented = testing::segmentCloud(cloud, 30);
+  SceneRun run{segmented.result, {}};
+  EXPECT_EQ(segmented.clusters, run.result.segments.size());
 
   std::vector<int> truth_types, predicted_types;
   for (const auto& p : scenePrimitives())
@@ -180,20 +167,8 @@ TEST(Segmentation, TorusAbovePlaneIsATorus) {
       cloud->push_back(q);
       truth.push_back(x == &xt ? 0 : 1);
     }
-  const auto hoods = testing::knnNeighborhoods(cloud, 12);
-  testing::estimateNormals(cloud, hoods);
-  auto slippage = std::make_shared<pcl::PointCloud<PointSlippage>>();
-  LocalSlippage<pcl::PointNormal> local;
-  local.setInputCloud(cloud);
-  local.setNeighborhoods(hoods);
-  local.compute(*slippage);
-  SlippageSegmentation<pcl::PointNormal> seg;
-  seg.setInputCloud(cloud);
-  seg.setNeighborhoods(hoods);
-  seg.setLocalSlippage(slippage);
-  std::vector<pcl::PointIndices> clusters;
-  seg.segment(clusters);
-  const SegmentationResult& r = seg.result();
+  const testing::SegmentedCloud segmented = testing::segmentCloud(cloud, 12);
+  const SegmentationResult& r = segmented.result;
   std::vector<int> predicted_types;
   for (const auto& s : r.segments)
     predicted_types.push_back(static_cast<int>(s.fit.type));
@@ -273,27 +248,15 @@ SegmentationScore segmentRandomScene(std::uint64_t seed, double outliers) {
     q.getVector3fMap() = x.col(i).cast<float>();
     cloud->push_back(q);
   }
-  const auto hoods = testing::knnNeighborhoods(cloud, 12);
-  testing::estimateNormals(cloud, hoods);
-  auto slippage = std::make_shared<pcl::PointCloud<PointSlippage>>();
-  LocalSlippage<pcl::PointNormal> local;
-  local.setInputCloud(cloud);
-  local.setNeighborhoods(hoods);
-  local.compute(*slippage);
-  SlippageSegmentation<pcl::PointNormal> seg;
-  seg.setInputCloud(cloud);
-  seg.setNeighborhoods(hoods);
-  seg.setLocalSlippage(slippage);
-  std::vector<pcl::PointIndices> clusters;
-  seg.segment(clusters);
+  const testing::SegmentedCloud segmented = testing::segmentCloud(cloud, 12);
   std::vector<int> truth_types, predicted_types;
   for (const auto& q : primitives)
     truth_types.push_back(static_cast<int>(typeOf(q)));
-  for (const auto& s : seg.result().segments)
+  for (const auto& s : segmented.result.segments)
     predicted_types.push_back(static_cast<int>(s.fit.type));
   const SegmentationScore score =
-      scoreSegmentation(truth, seg.result().labels, truth_types, predicted_types);
-  std::cout << "random scene " << seed << ": " << seg.result().segments.size()
+      scoreSegmentation(truth, segmented.result.labels, truth_types, predicted_types);
+  std::cout << "random scene " << seed << ": " << segmented.result.segments.size()
             << " segments (truth 30), mean IoU " << score.mean_iou << ", type accuracy "
             << score.type_accuracy << "\n";
   return score;
