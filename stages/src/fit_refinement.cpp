@@ -336,6 +336,11 @@ FitResult fitAuto(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
       reasons += (reasons.empty() ? "" : "; ") + r.reason;
       continue;
     }
+    if (isNearlyDegenerate(r.refined, points)) {
+      reasons += (reasons.empty() ? "" : "; ") + std::string(name) +
+                 " fit: in its simpler limit (radius beyond 50 times the points' spread)";
+      continue;
+    }
     candidates.push_back({type, r.rms_distance});
     fits.push_back(std::move(r));
   }

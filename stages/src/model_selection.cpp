@@ -5,6 +5,43 @@
 
 namespace slipfit {
 
+namespace {
+
+/// RMS distance of the points from their centroid, in the plane across \a axis (all three
+/// directions when \a axis is zero).
+double spread(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Eigen::Vector3d& axis) {
+  if (points.cols() == 0)
+    return 0.0;
+  const Eigen::Vector3d c = points.rowwise().mean();
+  double sum = 0.0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    const Eigen::Vector3d d = points.col(i) - c;
+    sum += d.squaredNorm() - std::pow(d.dot(axis), 2);
+  }
+  return std::sqrt(sum / static_cast<double>(points.cols()));
+}
+
+}  // namespace
+
+bool isNearlyDegenerate(const Primitive& primitive,
+                        const Eigen::Ref<const Eigen::Matrix3Xd>& points) {
+  if (const auto* s = std::get_if<Sphere>(&primitive))
+    return s->radius > kFlatRadiusRatio * spread(points, Eigen::Vector3d::Zero());
+  if (const auto* c = std::get_if<Cylinder>(&primitive))
+    return c->radius > kFlatRadiusRatio * spread(points, c->axis.normalized());
+  if (const auto* k = std::get_if<Cone>(&primitive)) {
+    // Its curvature radius at the points' centroid: the distance from the axis / cos(half-angle).
+    const Eigen::Vector3d a = k->axis.normalized();
+    const Eigen::Vector3d d = points.rowwise().mean() - k->apex;
+    const double rho = (d - d.dot(a) * a).norm();
+    return rho > kFlatRadiusRatio * std::cos(k->half_angle) * spread(points, Eigen::Vector3d::Zero());
+  }
+  if (const auto* t = std::get_if<Torus>(&primitive))
+    return std::max(t->major_radius, t->minor_radius) >
+           kFlatRadiusRatio * spread(points, Eigen::Vector3d::Zero());
+  return false;
+}
+
 int parameterCount(PrimitiveType type) {
   switch (type) {
     case PrimitiveType::plane:

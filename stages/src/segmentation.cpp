@@ -1,5 +1,6 @@
 #include "slipfit/segmentation.h"
 
+#include "slipfit/depth_quantization.h"
 #include "slipfit/exceptions.h"
 #include "slipfit/model_selection.h"
 
@@ -103,6 +104,8 @@ constexpr std::size_t kTypeSubset = 2000;
 // rounding and the sagitta of fits made on part of a region while it grows.
 constexpr double kNoiseFactor = 3.0;
 constexpr double kSpacingFactor = 0.05;
+// Steps of a quantized axis added to a point's tolerance: see segmentBySlippage.
+constexpr double kStepFactor = 2.0;
 // The default smallest segment: an absolute count (a fraction of N starves the small shapes of a
 // large scene); small faces of CAD parts have 20–60 points.
 constexpr std::size_t kDefaultMinPoints = 20;
@@ -111,19 +114,28 @@ constexpr double kVolumeRatio = 0.45;
 
 class Grower {
  public:
+  /// \a tolerance: per point, the largest distance of a member.
   Grower(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
          const Eigen::Ref<const Eigen::Matrix3Xd>& normals, const Neighborhoods& hoods,
-         double distance, double max_angle)
+         std::vector<double> tolerance, double max_angle)
       : points_(points),
         normals_(normals),
         hoods_(hoods),
-        distance_(distance),
+        tolerance_(std::move(tolerance)),
         cos_angle_(std::cos(max_angle)),
         stamp_(static_cast<std::size_t>(points.cols()), 0) {}
 
+  /// Point \a i's distance tolerance.
+  double tolerance(int i) const { return tolerance_[static_cast<std::size_t>(i)]; }
+
+  /// Point \a i lies within its tolerance of \a primitive.
+  bool near(int i, const Primitive& primitive) const {
+    return distance(points_.col(i), primitive) <= tolerance(i);
+  }
+
   bool accepts(int i, const Primitive& primitive) const {
     const Eigen::Vector3d p = points_.col(i);
-    if (!(distance(p, primitive) <= distance_))
+    if (!(distance(p, primitive) <= tolerance(i)))
       return false;
     return std::abs(surfaceNormal(p, primitive).dot(normals_.col(i))) >= cos_angle_;
   }
@@ -209,7 +221,7 @@ class Grower {
   const Eigen::Ref<const Eigen::Matrix3Xd>& points_;
   const Eigen::Ref<const Eigen::Matrix3Xd>& normals_;
   const Neighborhoods& hoods_;
-  double distance_;
+  std::vector<double> tolerance_;
   double cos_angle_;
   std::vector<std::uint32_t> stamp_;
   std::uint32_t generation_ = 0;
@@ -274,6 +286,12 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
     throw DegenerateInputError("segmentation: some normals are missing (NaN)");
 
   SegmentationResult result;
+  // A coordinate recorded on levels (Kinect-like depth) puts a point up to half a step off its
+  // surface along that axis, and a disparity sensor's noise grows with depth as its step does
+  // (about half a step): each point's tolerance adds kStepFactor local steps to the tolerance
+  // from the noise and spacing.
+  result.lattice = detectQuantizedAxis(points);
+  result.step_factor = result.lattice.detected() ? kStepFactor : 0.0;
   const DataScale scale = dataScale(points, hoods);
   result.noise = scale.noise;
   result.distance =
@@ -282,6 +300,9 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
     throw DegenerateInputError(
         "segmentation: cannot derive a distance tolerance (all points coincide); set distance");
   result.max_angle = parameters.max_angle;
+  std::vector<double> tolerance(n);
+  for (std::size_t i = 0; i < n; ++i)
+    tolerance[i] = result.tolerance(points.col(static_cast<Eigen::Index>(i)));
   result.min_points = parameters.min_points.value_or(kDefaultMinPoints);
   result.labels.assign(n, -1);
 
@@ -299,7 +320,7 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
   }
   std::sort(seeds.begin(), seeds.end());
 
-  Grower grower(points, normals, hoods, result.distance, result.max_angle);
+  Grower grower(points, normals, hoods, std::move(tolerance), result.max_angle);
   std::vector<char> tried(n, 0);
   std::vector<std::vector<int>> regions;
   std::vector<FitResult> fits;
@@ -386,14 +407,15 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
     if (4 * members.size() < 3 * hoods[us].size())
       continue;  // a point at the crease of a grown segment, not a face of its own
     // A quick look with the closed forms first (outliers fail it by far), then the refined fits.
+    const double seed_tolerance = grower.tolerance(static_cast<int>(us));
     const FitResult quick = grower.fitBest(members, false);
-    const FitResult start = quick.ok() && quick.rms_distance > result.distance &&
-                                    quick.rms_distance <= 3.0 * result.distance
+    const FitResult start = quick.ok() && quick.rms_distance > seed_tolerance &&
+                                    quick.rms_distance <= 3.0 * seed_tolerance
                                 ? grower.fitBest(members)
                                 : quick;
     // The fit must also hold three points per parameter among the free 2-ring (the seed's free
     // neighbors and theirs): a torus fits any dozen outliers, but not the points around them.
-    bool holds = start.ok() && start.rms_distance <= result.distance;
+    bool holds = start.ok() && start.rms_distance <= seed_tolerance;
     if (holds) {
       std::vector<int> ring2;
       for (int m : members)
@@ -449,7 +471,7 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
       if (regions[big].size() >= 4 * regions[small].size()) {
         std::size_t held = 0;
         for (int i : regions[small])
-          held += distance(points.col(i), fits[big].refined) <= result.distance ? 1 : 0;
+          held += grower.near(i, fits[big].refined) ? 1 : 0;
         if (2 * held < regions[small].size()) {
           failed.insert(key);
           continue;
@@ -539,7 +561,7 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
     for (std::size_t i = 0; i < n; ++i) {
       if (result.labels[i] >= 0)
         continue;
-      double best = result.distance;
+      double best = grower.tolerance(static_cast<int>(i));
       std::int32_t label = -1;
       for (pcl::index_t j : hoods[i]) {
         const std::int32_t other = result.labels[static_cast<std::size_t>(j)];
@@ -564,12 +586,23 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
 
   // A surface, not a volume: points spread uniformly through the slab |D| ≤ ε have an RMS
   // distance of ε/√3 ≈ 0.58 ε; a surface with Gaussian noise (ε = 3σ) about 0.33 ε, quantized
-  // depth about 0.33 ε too, noise-free data far less. A region above kVolumeRatio ε is random
-  // points that happen to lie within ε of some primitive (a cloud of noise): it is dropped.
+  // depth at most 0.29 ε (its error, uniform within ±step/2, fills half the slab), noise-free data
+  // far less. A region above kVolumeRatio ε (each distance in units of its point's tolerance) is
+  // random points that happen to lie within ε of some primitive (a cloud of noise): dropped.
   for (std::size_t r = 0; r < regions.size(); ++r) {
     if (!alive[r])
       continue;
-    if (rmsOf(points, regions[r], fits[r].refined, nullptr) > kVolumeRatio * result.distance) {
+    double sum = 0.0;
+    for (int i : regions[r]) {
+      const double d = distance(points.col(i), fits[r].refined) / grower.tolerance(i);
+      sum += d * d;
+    }
+    // With a quantized axis, a region all on one level is a slice of the sensor's lattice: its
+    // shape along that axis is not measured.
+    bool one_level = result.lattice.detected();
+    for (std::size_t j = 1; one_level && j < regions[r].size(); ++j)
+      one_level = points(result.lattice.axis, regions[r][j]) == points(result.lattice.axis, regions[r][0]);
+    if (one_level || std::sqrt(sum / static_cast<double>(regions[r].size())) > kVolumeRatio) {
       for (int i : regions[r])
         result.labels[static_cast<std::size_t>(i)] = -1;
       regions[r].clear();

@@ -35,6 +35,10 @@ class NeighborhoodSelectionStage : public Stage {
     o.add("k_step", p_.k_step, "Adaptive mode: step between candidate sizes.")
         .unit("points")
         .range(1, 1000);
+    o.add("span_quantization", p_.span_quantization,
+          "knn: where one coordinate is recorded on levels (Kinect-like depth), widen the "
+          "neighborhoods that lie within 1.5 local steps to every point within 1.5 steps (at "
+          "most 8 k), so that they span the levels.");
     o.add("write_fields", write_fields_,
           "Add the per-point fields 'neighbors' (list size) and 'scale' (neighborhood radius) to "
           "the output cloud.");
@@ -55,6 +59,10 @@ class NeighborhoodSelectionStage : public Stage {
     context.report << "neighborhoods: " << st.queries << " points, sizes " << st.min_size << ".."
                    << st.max_size << " (mean " << st.mean_size << "), " << st.tree_builds
                    << " kd-tree build\n";
+    if (st.quantized_axis >= 0)
+      context.report << "neighborhoods: coordinate " << "xyz"[st.quantized_axis]
+                     << " is recorded on levels " << st.min_step << ".." << st.max_step
+                     << " apart; " << st.widened << " neighborhoods widened to span them\n";
     if (write_fields_) {
       const std::size_t n = data.size();
       std::vector<std::int32_t> sizes(n);

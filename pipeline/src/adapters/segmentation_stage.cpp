@@ -150,6 +150,10 @@ class SegmentationStage : public Stage {
     context.report << "segmentation: " << result.segments.size() << " segments, " << assigned << "/"
                    << data.size() << " points assigned (distance " << result.distance << ", "
                    << result.merges << " merges)\n";
+    if (result.lattice.detected())
+      context.report << "segmentation: coordinate " << "xyz"[result.lattice.axis]
+                     << " is recorded on levels up to " << result.lattice.maxStep()
+                     << " apart: each point's tolerance adds its local step\n";
     for (std::size_t k = 0; k < result.segments.size() && k < 20; ++k) {
       const Segment& s = result.segments[k];
       context.report << "  segment " << k << ": " << primitiveTypeName(s.fit.type) << ", "
@@ -184,8 +188,10 @@ class SegmentationStage : public Stage {
       r.fit.used_points = s.fit.used_points;  // the points the fit saw (the analysis points)
       r.slippage = s.slippage;
       r.inlier_distance = result.distance;
-      for (int i : s.indices)
-        r.inliers += distance(pointAt(cloud, i), s.fit.refined) <= result.distance ? 1 : 0;
+      for (int i : s.indices) {
+        const Eigen::Vector3d p = pointAt(cloud, i);
+        r.inliers += distance(p, s.fit.refined) <= result.tolerance(p) ? 1 : 0;
+      }
       r.extra["points"] = std::to_string(s.indices.size());
       r.extra["seed_slippage_type"] = std::string(slippageTypeName(s.seed_type));
       records.push_back(std::move(r));

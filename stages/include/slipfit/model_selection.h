@@ -10,6 +10,8 @@
 
 #include "slipfit/primitives.h"
 
+#include <Eigen/Core>
+
 #include <cstddef>
 #include <optional>
 #include <vector>
@@ -28,6 +30,19 @@ struct ModelCandidate {
 /// data). Fit4CAD: 0.25 against 0.1 raised the type accuracy from 0.949 to 0.958 (Dice 0.873 →
 /// 0.871).
 constexpr double kAdequacyMargin = 0.25;
+
+/// A sphere or cylinder whose radius exceeds this many times the spread of the points across it
+/// (their RMS distance from the centroid; for a cylinder, across its axis), a cone whose radius
+/// of curvature at the points does (distance from the axis / cos of the half-angle: a cone near
+/// 90°), or a torus whose major or minor radius does, is its simpler limit (plane; plane; plane;
+/// cylinder or sphere or plane) however well it fits: over
+/// the points it bends by less than 1/(8·50) of their extent — within a sensor's systematic
+/// distortion (a Kinect's table is a sphere of radius 54 m over 1.5 m, 2.3 mm closer to it than
+/// the plane's 3 mm), and on CAD data an arc of under about 4°.
+constexpr double kFlatRadiusRatio = 50.0;
+
+/// True when \a primitive is in the degenerate limit above for \a points (3 × N).
+bool isNearlyDegenerate(const Primitive& primitive, const Eigen::Ref<const Eigen::Matrix3Xd>& points);
 
 /// Number of free parameters of a type: 3, 4, 5, 6, 7 (plane, sphere, cylinder, cone, torus).
 int parameterCount(PrimitiveType type);

@@ -44,6 +44,12 @@ struct NeighborhoodParameters {
   int k_min = 8;
   int k_max = 48;
   int k_step = 2;
+  /// knn mode: where one coordinate is recorded on a lattice of levels (the depth of a Kinect-like
+  /// camera, see depth_quantization.h), a point whose k nearest lie within 1.5 local steps takes
+  /// points up to 1.5 steps away instead — its k nearest and an evenly strided choice of the rest
+  /// (of at most 64 k), 8 k in all — so that its neighborhood spans the levels and shows the
+  /// surface, not a flat slice of it.
+  bool span_quantization = true;
   /// OpenMP threads; 0 means as many as the machine has.
   int threads = 0;
 
@@ -59,6 +65,10 @@ struct NeighborhoodStatistics {
   std::size_t max_size = 0;     ///< largest neighborhood
   double mean_size = 0.0;       ///< mean size over queried finite points
   std::size_t skipped_nonfinite = 0;  ///< queried points with NaN/inf coordinates (empty lists)
+  int quantized_axis = -1;       ///< the coordinate recorded on levels (0, 1, 2), or −1
+  double min_step = 0.0;         ///< its smallest and largest local step, cloud units
+  double max_step = 0.0;
+  std::size_t widened = 0;       ///< neighborhoods widened to span the levels
 };
 
 /// Computes the neighborhood of every (indexed) point of a cloud.

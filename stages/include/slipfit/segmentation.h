@@ -5,6 +5,7 @@
 /// grow, merging of adjacent regions of one primitive, and label −1 for points that fit nothing.
 
 #include "slipfit/local_slippage.h"
+#include "slipfit/depth_quantization.h"
 #include "slipfit/neighborhoods.h"
 #include "slipfit/slippage.h"
 #include "slipfit/weighted_fit.h"
@@ -53,7 +54,15 @@ struct Segment {
 struct SegmentationResult {
   std::vector<std::int32_t> labels;  ///< per point: segment index, −1 unassigned
   std::vector<Segment> segments;     ///< largest first
-  double distance = 0.0;             ///< the distance tolerance used
+  double distance = 0.0;  ///< the distance tolerance used (the floor of it, with a lattice)
+  /// The coordinate recorded on levels, if any (Kinect-like depth): a point's tolerance is
+  /// `distance` plus `step_factor` times the local step there.
+  QuantizedAxis lattice;
+  double step_factor = 0.0;
+  /// The distance tolerance of a point at \a p.
+  double tolerance(const Eigen::Vector3d& p) const {
+    return distance + step_factor * lattice.stepAt(p);
+  }
   double noise = 0.0;                ///< the noise estimate σ̂ (units)
   double max_angle = 0.0;            ///< the angle tolerance used, radians
   std::size_t min_points = 0;        ///< the smallest segment allowed

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "slipfit/depth_quantization.h"
 #include "slipfit/eigen_entropy.h"
 #include "slipfit/exceptions.h"
 #include "slipfit/neighborhood_selection.h"
@@ -15,6 +16,25 @@
 #include <vector>
 
 namespace slipfit {
+
+/// Keeps the \a k nearest of a sorted list and, of the rest, an evenly strided choice up to
+/// \a cap entries in all: a wide neighborhood at the cost of a narrow one.
+inline void thinWidened(pcl::Indices& indices, std::vector<float>& sqr_distances, std::size_t k,
+                        std::size_t cap) {
+  const std::size_t n = indices.size();
+  if (n <= cap)
+    return;
+  const double stride = static_cast<double>(n - k) / static_cast<double>(cap - k);
+  std::size_t out = k;
+  for (std::size_t j = 0; j < cap - k; ++j) {
+    const auto from = k + static_cast<std::size_t>(static_cast<double>(j) * stride);
+    indices[out] = indices[from];
+    sqr_distances[out] = sqr_distances[from];
+    ++out;
+  }
+  indices.resize(out);
+  sqr_distances.resize(out);
+}
 
 template <typename PointT>
 void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
@@ -53,6 +73,19 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
   }
 
   const NeighborhoodParameters& par = parameters_;
+  QuantizedAxis lattice;
+  if (par.span_quantization && par.mode == NeighborhoodMode::knn) {
+    Eigen::Matrix3Xd xyz(3, static_cast<Eigen::Index>(n));
+    for (std::size_t i = 0; i < n; ++i)
+      xyz.col(static_cast<Eigen::Index>(i)) = cloud[i].getVector3fMap().template cast<double>();
+    lattice = detectQuantizedAxis(xyz);
+    statistics_.quantized_axis = lattice.axis;
+    statistics_.min_step = lattice.minStep();
+    statistics_.max_step = lattice.maxStep();
+  }
+  constexpr double kSpanSteps = 1.5;
+  constexpr int kWidenCap = 8;    // a widened list holds at most 8 k points ...
+  constexpr int kSearchCap = 64;  // ... chosen from at most 64 k within the span
   const int k_query = par.mode == NeighborhoodMode::adaptive ? par.k_max : par.k;
   const float r2 = par.radius ? static_cast<float>(*par.radius * *par.radius) : 0.0f;
 
@@ -65,13 +98,13 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
   constexpr std::size_t kChunk = 1 << 15;
   std::vector<pcl::Indices> chunk_indices(std::min(kChunk, n));
   std::vector<std::vector<float>> chunk_dists(std::min(kChunk, n));
-  std::size_t queries = 0, skipped = 0;
+  std::size_t queries = 0, skipped = 0, widened = 0;
   const int threads = par.threads;
 
   for (std::size_t begin = 0; begin < n; begin += kChunk) {
     const std::size_t end = std::min(n, begin + kChunk);
 #pragma omp parallel num_threads(threads > 0 ? threads : omp_get_num_procs()) \
-    reduction(+ : queries, skipped)
+    reduction(+ : queries, skipped, widened)
     {
       Eigen::Matrix3Xf local;
 #pragma omp for schedule(dynamic, 256)
@@ -91,9 +124,21 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
         ++queries;
         const auto index = static_cast<pcl::index_t>(i);
         switch (par.mode) {
-          case NeighborhoodMode::knn:
+          case NeighborhoodMode::knn: {
             search_->nearestKSearch(cloud, index, par.k, ind, d);
+            if (!lattice.detected() || d.empty())
+              break;
+            const double span =
+                kSpanSteps * lattice.stepAt(static_cast<double>(cloud[i].data[lattice.axis]));
+            if (static_cast<double>(d.back()) < span * span) {
+              search_->radiusSearch(cloud, index, span, ind, d,
+                                    static_cast<unsigned>(kSearchCap * par.k));
+              thinWidened(ind, d, static_cast<std::size_t>(par.k),
+                          static_cast<std::size_t>(kWidenCap * par.k));
+              ++widened;
+            }
             break;
+          }
           case NeighborhoodMode::radius:
             search_->radiusSearch(
                 cloud, index, *par.radius, ind, d,
@@ -126,6 +171,7 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
 
   statistics_.queries = queries;
   statistics_.skipped_nonfinite = skipped;
+  statistics_.widened = widened;
   std::size_t total = 0, lo = std::numeric_limits<std::size_t>::max(), hi = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t s = output[i].size();
