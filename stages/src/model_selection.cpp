@@ -34,7 +34,8 @@ bool isNearlyDegenerate(const Primitive& primitive,
     const Eigen::Vector3d a = k->axis.normalized();
     const Eigen::Vector3d d = points.rowwise().mean() - k->apex;
     const double rho = (d - d.dot(a) * a).norm();
-    return rho > kFlatRadiusRatio * std::cos(k->half_angle) * spread(points, Eigen::Vector3d::Zero());
+    return rho >
+           kFlatRadiusRatio * std::cos(k->half_angle) * spread(points, Eigen::Vector3d::Zero());
   }
   if (const auto* t = std::get_if<Torus>(&primitive))
     return std::max(t->major_radius, t->minor_radius) >

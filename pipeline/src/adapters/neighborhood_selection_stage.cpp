@@ -60,9 +60,10 @@ class NeighborhoodSelectionStage : public Stage {
                    << st.max_size << " (mean " << st.mean_size << "), " << st.tree_builds
                    << " kd-tree build\n";
     if (st.quantized_axis >= 0)
-      context.report << "neighborhoods: coordinate " << "xyz"[st.quantized_axis]
-                     << " is recorded on levels " << st.min_step << ".." << st.max_step
-                     << " apart; " << st.widened << " neighborhoods widened to span them\n";
+      context.report << "neighborhoods: coordinate "
+                     << "xyz"[st.quantized_axis] << " is recorded on levels " << st.min_step << ".."
+                     << st.max_step << " apart; " << st.widened
+                     << " neighborhoods widened to span them\n";
     if (write_fields_) {
       const std::size_t n = data.size();
       std::vector<std::int32_t> sizes(n);

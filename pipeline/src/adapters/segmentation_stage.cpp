@@ -151,8 +151,9 @@ class SegmentationStage : public Stage {
                    << data.size() << " points assigned (distance " << result.distance << ", "
                    << result.merges << " merges)\n";
     if (result.lattice.detected())
-      context.report << "segmentation: coordinate " << "xyz"[result.lattice.axis]
-                     << " is recorded on levels up to " << result.lattice.maxStep()
+      context.report << "segmentation: coordinate "
+                     << "xyz"[result.lattice.axis] << " is recorded on levels up to "
+                     << result.lattice.maxStep()
                      << " apart: each point's tolerance adds its local step\n";
     for (std::size_t k = 0; k < result.segments.size() && k < 20; ++k) {
       const Segment& s = result.segments[k];

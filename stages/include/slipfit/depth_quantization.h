@@ -13,9 +13,9 @@ namespace slipfit {
 
 /// The levels of a quantized coordinate axis and the local step at each level.
 struct QuantizedAxis {
-  int axis = -1;                ///< 0, 1 or 2 (x, y, z); −1 when no axis is quantized
-  std::vector<double> levels;   ///< the values that hold the points, ascending
-  std::vector<double> steps;    ///< the local step at each level (cloud units)
+  int axis = -1;               ///< 0, 1 or 2 (x, y, z); −1 when no axis is quantized
+  std::vector<double> levels;  ///< the values that hold the points, ascending
+  std::vector<double> steps;   ///< the local step at each level (cloud units)
 
   bool detected() const { return axis >= 0; }
   /// The local step at coordinate \a value along the axis (the nearest level's); 0 when no axis

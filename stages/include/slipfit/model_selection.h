@@ -42,7 +42,8 @@ constexpr double kAdequacyMargin = 0.25;
 constexpr double kFlatRadiusRatio = 50.0;
 
 /// True when \a primitive is in the degenerate limit above for \a points (3 × N).
-bool isNearlyDegenerate(const Primitive& primitive, const Eigen::Ref<const Eigen::Matrix3Xd>& points);
+bool isNearlyDegenerate(const Primitive& primitive,
+                        const Eigen::Ref<const Eigen::Matrix3Xd>& points);
 
 /// Number of free parameters of a type: 3, 4, 5, 6, 7 (plane, sphere, cylinder, cone, torus).
 int parameterCount(PrimitiveType type);

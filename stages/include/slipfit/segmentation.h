@@ -4,8 +4,8 @@
 /// over the shared kNN graph while points agree with the region's weighted fit, refits as regions
 /// grow, merging of adjacent regions of one primitive, and label −1 for points that fit nothing.
 
-#include "slipfit/local_slippage.h"
 #include "slipfit/depth_quantization.h"
+#include "slipfit/local_slippage.h"
 #include "slipfit/neighborhoods.h"
 #include "slipfit/slippage.h"
 #include "slipfit/weighted_fit.h"
@@ -63,11 +63,11 @@ struct SegmentationResult {
   double tolerance(const Eigen::Vector3d& p) const {
     return distance + step_factor * lattice.stepAt(p);
   }
-  double noise = 0.0;                ///< the noise estimate σ̂ (units)
-  double max_angle = 0.0;            ///< the angle tolerance used, radians
-  std::size_t min_points = 0;        ///< the smallest segment allowed
-  std::size_t regions_grown = 0;     ///< seeds that were grown (kept or not)
-  std::size_t merges = 0;            ///< pairs of segments merged
+  double noise = 0.0;             ///< the noise estimate σ̂ (units)
+  double max_angle = 0.0;         ///< the angle tolerance used, radians
+  std::size_t min_points = 0;     ///< the smallest segment allowed
+  std::size_t regions_grown = 0;  ///< seeds that were grown (kept or not)
+  std::size_t merges = 0;         ///< pairs of segments merged
   /// Regions dropped because their points fill the tolerance slab like random points (RMS
   /// distance above 0.45 ε), not a surface: a cloud of noise gives no segment.
   std::size_t volumes = 0;

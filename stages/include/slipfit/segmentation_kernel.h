@@ -1,0 +1,78 @@
+#pragma once
+/// \file The segmentation kernel as named phases, apart from its PCL front end
+/// (SlippageSegmentation, segmentation.h). segmentBySlippage runs them in this order:
+///
+/// 1. estimateScale — noise σ̂, spacing, a quantized depth axis → each point's distance tolerance;
+/// 2. growSlippageSeeds — seeding where the neighbors agree on the local slippage type, growth
+///    bounded by the region's own fit, the type re-chosen on the grown region (selection);
+/// 3. growFreeSeeds — a second seeding round from the points still free (small faces whose
+///    neighborhoods all straddle an edge), with the simplest adequate type of the seed's neighbors;
+/// 4. mergeRegions — adjacent regions whose union one primitive fits about as well;
+/// 5. refineBoundaries — points that a neighboring segment's primitive explains better move;
+/// 6. joinCreases — free points at creases join the nearest adjacent primitive within tolerance;
+/// 7. dropNonSurfaces — regions that fill their tolerance slab like random points, or lie on one
+///    level of a quantized axis, are dropped;
+/// 8. finalize — largest first, every segment refitted on all its members.
+///
+/// Each phase can be run and inspected on its own (regions()), which is how the tests look inside.
+/// The design and its figures: docs/THEORY.md §6.
+
+#include "slipfit/region_grower.h"
+#include "slipfit/segmentation.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace slipfit {
+
+class SegmentationKernel {
+ public:
+  /// Checks the inputs (sizes, finite normals, parameters); throws DegenerateInputError or
+  /// InvalidParameterError. The arrays must outlive the kernel.
+  SegmentationKernel(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                     const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                     const Neighborhoods& neighborhoods,
+                     const std::vector<SlippageType>& local_types,
+                     const SegmentationParameters& parameters);
+
+  void estimateScale();
+  void growSlippageSeeds();
+  void growFreeSeeds();
+  void mergeRegions();
+  void refineBoundaries();
+  void joinCreases();
+  void dropNonSurfaces();
+  /// Ends the run: the result with its segments largest first.
+  SegmentationResult finalize();
+
+  /// The regions so far (empty member lists are regions dropped or merged away).
+  const std::vector<std::vector<int>>& regions() const { return regions_; }
+  /// The tolerances and counters so far (segments are filled by finalize()).
+  const SegmentationResult& progress() const { return result_; }
+
+ private:
+  void growRegion(PrimitiveType type, std::vector<int> members, SlippageType seed_type,
+                  bool type_chosen);
+  void relabelFromRegions();
+  void drop(std::size_t region);
+
+  Eigen::Ref<const Eigen::Matrix3Xd> points_;  // views: the arrays outlive the object
+  Eigen::Ref<const Eigen::Matrix3Xd> normals_;
+  const Neighborhoods& hoods_;
+  const std::vector<SlippageType>& local_types_;
+  SegmentationParameters parameters_;
+  std::size_t n_ = 0;
+
+  SegmentationResult result_;  ///< tolerances, counters and the point labels
+  std::optional<RegionGrower> grower_;
+  std::vector<char> tried_;
+  std::vector<std::vector<int>> regions_;
+  std::vector<FitResult> fits_;
+  std::vector<SlippageType> seed_types_;
+  std::vector<char> alive_;
+};
+
+}  // namespace slipfit

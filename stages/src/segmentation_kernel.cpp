@@ -1,0 +1,532 @@
+#include "slipfit/segmentation_kernel.h"
+
+#include "slipfit/depth_quantization.h"
+#include "slipfit/exceptions.h"
+#include "slipfit/model_selection.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <tuple>
+
+namespace slipfit {
+
+namespace {
+
+// The default tolerance: 3 σ of the estimated noise (a Gaussian keeps 99.7 % of its points) plus
+// a twentieth of the spacing, the floor for noise-free data (CAD: σ ≈ 0), where it admits float
+// rounding and the sagitta of fits made on part of a region while it grows.
+constexpr double kNoiseFactor = 3.0;
+constexpr double kSpacingFactor = 0.05;
+// Steps of a quantized axis added to a point's tolerance: see estimateScale.
+constexpr double kStepFactor = 2.0;
+// The default smallest segment: an absolute count (a fraction of N starves the small shapes of a
+// large scene); small faces of CAD parts have 20–60 points.
+constexpr std::size_t kDefaultMinPoints = 20;
+// Between a surface's RMS distance (≈ 0.33 ε) and that of a slab filled at random (0.58 ε).
+constexpr double kVolumeRatio = 0.45;
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty())
+    return 0.0;
+  auto at = v.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), at, v.end());
+  return *at;
+}
+
+/// q-quantile of χ²_ν / ν by the Wilson–Hilferty approximation, for the z-score \a z of q.
+double chiSquareQuantileOverDof(double nu, double z) {
+  const double c = 2.0 / (9.0 * nu);
+  return std::pow(std::max(0.0, 1.0 - c + z * std::sqrt(c)), 3.0);
+}
+
+/// The tolerance from the data: the noise from the spread of each neighborhood off its best
+/// plane, the spacing the distance to the nearest other point.
+struct DataScale {
+  double noise = 0.0;    ///< σ̂, from the lower quartile of the neighborhoods' plane residuals
+  double spacing = 0.0;  ///< median nearest-neighbor distance
+};
+
+DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neighborhoods& hoods) {
+  std::vector<double> variance, spacing;
+  const std::size_t n = hoods.size();
+  const std::size_t stride = std::max<std::size_t>(1, n / 20000);  // a sample is enough
+  constexpr double kLowerQuartileZ = -0.6744897501960817;
+  for (std::size_t i = 0; i < n; i += stride) {
+    const NeighborView v = hoods[i];
+    if (v.size() < 5)
+      continue;
+    spacing.push_back(std::sqrt(static_cast<double>(v.sqr_distances[1])));
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (pcl::index_t j : v)
+      mean += points.col(j);
+    mean /= static_cast<double>(v.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (pcl::index_t j : v) {
+      const Eigen::Vector3d d = points.col(j) - mean;
+      cov += d * d.transpose();
+    }
+    cov /= static_cast<double>(v.size());
+    // λ₀ is the mean squared residual of the best plane through the k points; on a smooth surface
+    // with Gaussian noise σ, k λ₀ ≈ σ² χ²_ν with ν = k − 3 degrees of freedom. Each neighborhood's
+    // value is scaled by the lower quartile of χ²_ν / ν, so that the lower quartile over all
+    // neighborhoods estimates σ²: robust to the half of them that straddle edges, thin walls or
+    // strong curvature (the median was not: a thin sheet put both faces in most neighborhoods).
+    const double k = static_cast<double>(v.size());
+    const double lambda0 =
+        std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly)
+                          .eigenvalues()(0));
+    variance.push_back(lambda0 * k / (k - 3.0) /
+                       chiSquareQuantileOverDof(k - 3.0, kLowerQuartileZ));
+  }
+  return {std::sqrt(quantile(std::move(variance), 0.25)), quantile(std::move(spacing), 0.5)};
+}
+
+/// Two planes more than the angle tolerance apart never merge; other pairs are tried.
+bool mayMerge(const Primitive& a, const Primitive& b, double max_angle) {
+  const auto* pa = std::get_if<Plane>(&a);
+  const auto* pb = std::get_if<Plane>(&b);
+  return !(pa && pb) || std::abs(pa->normal.dot(pb->normal)) >= std::cos(max_angle);
+}
+
+/// The segment's own slippage verdict, and its primitive as a second start of the refinement.
+void refineFromSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                        const Eigen::Ref<const Eigen::Matrix3Xd>& normals, Segment& s) {
+  const auto m = static_cast<Eigen::Index>(s.indices.size());
+  Eigen::Matrix3Xd p(3, m), n(3, m);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    p.col(j) = points.col(s.indices[static_cast<std::size_t>(j)]);
+    n.col(j) = normals.col(s.indices[static_cast<std::size_t>(j)]);
+  }
+  const Eigen::VectorXd w = Eigen::VectorXd::Ones(m);
+  s.slippage = analyzeSlippage(p, n, w);
+  if (!s.slippage->primitive || typeOf(*s.slippage->primitive) != s.fit.type)
+    return;
+  const Primitive start = refinePrimitive(*s.slippage->primitive, p, w, 100);
+  const double loss = weightedLoss(p, w, start);
+  if (loss < weightedLoss(p, w, s.fit.refined)) {
+    s.fit.refined = start;
+    s.fit.loss_refined = loss;
+  }
+}
+
+double rmsOf(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const std::vector<int>& members,
+             const Primitive& primitive, double* max_distance) {
+  double sum = 0.0, worst = 0.0;
+  for (int i : members) {
+    const double d = distance(points.col(i), primitive);
+    sum += d * d;
+    worst = std::max(worst, d);
+  }
+  if (max_distance)
+    *max_distance = worst;
+  return members.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(members.size()));
+}
+
+}  // namespace
+
+SegmentationKernel::SegmentationKernel(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                       const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                       const Neighborhoods& neighborhoods,
+                                       const std::vector<SlippageType>& local_types,
+                                       const SegmentationParameters& parameters)
+    : points_(points),
+      normals_(normals),
+      hoods_(neighborhoods),
+      local_types_(local_types),
+      parameters_(parameters),
+      n_(static_cast<std::size_t>(points.cols())) {
+  parameters_.validate();
+  if (n_ == 0)
+    throw DegenerateInputError("segmentation: the cloud is empty");
+  if (static_cast<std::size_t>(normals.cols()) != n_ || hoods_.size() != n_ ||
+      local_types_.size() != n_)
+    throw DegenerateInputError(
+        "segmentation: points, normals, neighborhoods and local types differ in number");
+  if (!normals.allFinite())
+    throw DegenerateInputError("segmentation: some normals are missing (NaN)");
+}
+
+void SegmentationKernel::estimateScale() {
+  // A coordinate recorded on levels (Kinect-like depth) puts a point up to half a step off its
+  // surface along that axis, and a disparity sensor's noise grows with depth as its step does
+  // (about half a step): each point's tolerance adds kStepFactor local steps to the tolerance
+  // from the noise and spacing.
+  result_.lattice = detectQuantizedAxis(points_);
+  result_.step_factor = result_.lattice.detected() ? kStepFactor : 0.0;
+  const DataScale scale = dataScale(points_, hoods_);
+  result_.noise = scale.noise;
+  result_.distance =
+      parameters_.distance.value_or(kNoiseFactor * scale.noise + kSpacingFactor * scale.spacing);
+  if (!(result_.distance > 0.0))
+    throw DegenerateInputError(
+        "segmentation: cannot derive a distance tolerance (all points coincide); set distance");
+  result_.max_angle = parameters_.max_angle;
+  std::vector<double> tolerance(n_);
+  for (std::size_t i = 0; i < n_; ++i)
+    tolerance[i] = result_.tolerance(points_.col(static_cast<Eigen::Index>(i)));
+  result_.min_points = parameters_.min_points.value_or(kDefaultMinPoints);
+  result_.labels.assign(n_, -1);
+  grower_.emplace(points_, normals_, hoods_, std::move(tolerance), result_.max_angle);
+  tried_.assign(n_, 0);
+}
+
+// Grows one region from \a members (a seed's neighborhood) with \a type; keeps it when it reaches
+// min_points. \a seed_type is reported with the segment. With \a type_chosen (the type is already
+// the simplest adequate one of the seed's neighborhood) a region that grows to fewer than
+// min_points is dropped at once, without trying the other types.
+void SegmentationKernel::growRegion(PrimitiveType type, std::vector<int> members,
+                                    SlippageType seed_type, bool type_chosen) {
+  RegionGrower& grower = *grower_;
+  if (static_cast<int>(members.size()) < minimumPoints(type) + 2)
+    return;
+  FitResult fit = grower.fit(type, members);
+  if (!fit.ok())
+    return;
+  grower.prune(members, fit.refined);
+  if (members.empty())
+    return;
+  ++result_.regions_grown;
+  fit = grower.grow(type, members, std::move(fit), result_.labels);
+  if (type_chosen && members.size() < result_.min_points) {
+    for (int i : members)
+      tried_[static_cast<std::size_t>(i)] = 1;
+    return;
+  }
+  // The seed's local type can be wrong (a cone patch reads as a cylinder): refit the grown region
+  // with the best type and, if it changes, grow again from the region with that type. The local
+  // evidence stands unless another type fits clearly better, by the median distance (a BIC
+  // margin, or the RMS, lets a wide sphere absorb the crease points of a plane).
+  const double current = grower.medianDistance(members, fit.refined);
+  FitResult best;
+  if (current > result_.noise)  // a Gaussian's median |d| is 0.67 σ: this model explains the data
+    best = grower.fitBest(members);
+  if (current > result_.noise && best.ok() && best.type != type &&
+      grower.medianDistance(members, best.refined) < 0.75 * current) {
+    grower.prune(members, best.refined);
+    if (!members.empty())
+      fit = grower.grow(best.type, members, std::move(best), result_.labels);
+  }
+  FitResult final_fit = grower.fit(fit.type, members);
+  if (final_fit.ok())
+    fit = std::move(final_fit);
+  grower.prune(members, fit.refined);
+  for (int i : members)
+    tried_[static_cast<std::size_t>(i)] = 1;
+  if (members.size() < result_.min_points)
+    return;
+  const auto label = static_cast<std::int32_t>(regions_.size());
+  for (int i : members)
+    result_.labels[static_cast<std::size_t>(i)] = label;
+  regions_.push_back(std::move(members));
+  fits_.push_back(std::move(fit));
+  seed_types_.push_back(seed_type);
+  alive_.push_back(1);
+}
+
+void SegmentationKernel::growSlippageSeeds() {
+  // Seeds: points whose neighbors agree with their own primitive type, most agreement first
+  // (ties by index: deterministic), grown with that type.
+  std::vector<std::pair<int, int>> seeds;  // (−agreement, index)
+  for (std::size_t i = 0; i < n_; ++i) {
+    if (!primitiveTypeOf(local_types_[i]))
+      continue;
+    int agree = 0;
+    for (pcl::index_t j : hoods_[i])
+      agree += local_types_[static_cast<std::size_t>(j)] == local_types_[i] ? 1 : 0;
+    if (2 * agree > static_cast<int>(hoods_[i].size()))
+      seeds.emplace_back(-agree, static_cast<int>(i));
+  }
+  std::sort(seeds.begin(), seeds.end());
+  for (const auto& [neg_agree, seed] : seeds) {
+    const auto us = static_cast<std::size_t>(seed);
+    if (result_.labels[us] >= 0 || tried_[us])
+      continue;
+    std::vector<int> members;
+    for (pcl::index_t j : hoods_[us])
+      if (result_.labels[static_cast<std::size_t>(j)] < 0 &&
+          local_types_[static_cast<std::size_t>(j)] == local_types_[us])
+        members.push_back(j);
+    tried_[us] = 1;
+    growRegion(*primitiveTypeOf(local_types_[us]), std::move(members), local_types_[us], false);
+  }
+}
+
+void SegmentationKernel::growFreeSeeds() {
+  // What is left — small faces whose neighborhoods straddle an edge, so that no point has an
+  // agreeing local type — is seeded from every unlabelled point in index order, with the simplest
+  // adequate type of its unlabelled neighbors.
+  RegionGrower& grower = *grower_;
+  std::fill(tried_.begin(), tried_.end(), 0);
+  for (std::size_t us = 0; us < n_; ++us) {
+    if (result_.labels[us] >= 0 || tried_[us])
+      continue;
+    tried_[us] = 1;
+    std::vector<int> members;
+    for (pcl::index_t j : hoods_[us])
+      if (result_.labels[static_cast<std::size_t>(j)] < 0)
+        members.push_back(j);
+    if (4 * members.size() < 3 * hoods_[us].size())
+      continue;  // a point at the crease of a grown segment, not a face of its own
+    // A quick look with the closed forms first (outliers fail it by far), then the refined fits.
+    const double seed_tolerance = grower.tolerance(static_cast<int>(us));
+    const FitResult quick = grower.fitBest(members, false);
+    const FitResult start = quick.ok() && quick.rms_distance > seed_tolerance &&
+                                    quick.rms_distance <= 3.0 * seed_tolerance
+                                ? grower.fitBest(members)
+                                : quick;
+    // The fit must also hold three points per parameter among the free 2-ring (the seed's free
+    // neighbors and theirs): a torus fits any dozen outliers, but not the points around them.
+    bool holds = start.ok() && start.rms_distance <= seed_tolerance;
+    if (holds) {
+      std::vector<int> ring2;
+      for (int m : members)
+        for (pcl::index_t j : hoods_[static_cast<std::size_t>(m)])
+          if (result_.labels[static_cast<std::size_t>(j)] < 0)
+            ring2.push_back(j);
+      std::sort(ring2.begin(), ring2.end());
+      ring2.erase(std::unique(ring2.begin(), ring2.end()), ring2.end());
+      std::size_t held = 0;
+      for (int j : ring2)
+        held += grower.accepts(j, start.refined) ? 1 : 0;
+      holds = held >= 3 * static_cast<std::size_t>(parameterCount(start.type));
+    }
+    if (!holds) {
+      // No surface here (outliers, or an edge): none of these points seeds again.
+      for (int j : members)
+        tried_[static_cast<std::size_t>(j)] = 1;
+      continue;
+    }
+    growRegion(start.type, std::move(members), local_types_[us], true);
+  }
+}
+
+void SegmentationKernel::mergeRegions() {
+  // Merge adjacent regions while the best fit of their union (any type: bands of a cone grown as
+  // cylinders merge into the cone) is about as good as the parts.
+  RegionGrower& grower = *grower_;
+  std::vector<int> version(regions_.size(), 0);
+  std::set<std::tuple<std::size_t, std::size_t, int, int>> failed;
+  for (bool merged = true; merged;) {
+    merged = false;
+    std::map<std::pair<int, int>, std::size_t> adjacent;  // ordered: deterministic
+    for (std::size_t r = 0; r < regions_.size(); ++r) {
+      if (!alive_[r])
+        continue;
+      for (int i : regions_[r])
+        for (pcl::index_t j : hoods_[static_cast<std::size_t>(i)]) {
+          const int other = result_.labels[static_cast<std::size_t>(j)];
+          if (other > static_cast<int>(r))
+            ++adjacent[{static_cast<int>(r), other}];
+        }
+    }
+    for (const auto& [pair, edges] : adjacent) {
+      const auto a = static_cast<std::size_t>(pair.first),
+                 b = static_cast<std::size_t>(pair.second);
+      if (!alive_[a] || !alive_[b] ||
+          !mayMerge(fits_[a].refined, fits_[b].refined, result_.max_angle))
+        continue;
+      const auto key = std::make_tuple(a, b, version[a], version[b]);
+      if (failed.count(key))
+        continue;  // tried before, neither has changed since
+      // A region four times the other's size dominates the union's fit: its primitive must then
+      // hold most of the other's points already.
+      const std::size_t big = regions_[a].size() >= regions_[b].size() ? a : b;
+      const std::size_t small = big == a ? b : a;
+      if (regions_[big].size() >= 4 * regions_[small].size()) {
+        std::size_t held = 0;
+        for (int i : regions_[small])
+          held += grower.near(i, fits_[big].refined) ? 1 : 0;
+        if (2 * held < regions_[small].size()) {
+          failed.insert(key);
+          continue;
+        }
+      }
+      std::vector<int> both = regions_[a];
+      both.insert(both.end(), regions_[b].begin(), regions_[b].end());
+      FitResult fit = grower.fitBest(both);
+      const double limit =
+          parameters_.merge_factor * std::max(fits_[a].rms_distance, fits_[b].rms_distance);
+      if (!fit.ok() || !(fit.rms_distance <= limit)) {
+        failed.insert(key);
+        continue;
+      }
+      ++version[a];
+      for (int i : regions_[b])
+        result_.labels[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(a);
+      regions_[a] = std::move(both);
+      regions_[b].clear();
+      fits_[a] = std::move(fit);
+      alive_[b] = 0;
+      ++result_.merges;
+      merged = true;
+    }
+  }
+}
+
+void SegmentationKernel::drop(std::size_t region) {
+  for (int i : regions_[region])
+    result_.labels[static_cast<std::size_t>(i)] = -1;
+  regions_[region].clear();
+  alive_[region] = 0;
+}
+
+void SegmentationKernel::relabelFromRegions() {
+  for (auto& region : regions_)
+    region.clear();
+  for (std::size_t i = 0; i < n_; ++i)
+    if (result_.labels[i] >= 0)
+      regions_[static_cast<std::size_t>(result_.labels[i])].push_back(static_cast<int>(i));
+}
+
+void SegmentationKernel::refineBoundaries() {
+  // A point that the neighboring segment's primitive explains better than its own (nearer, within
+  // ε, normal within α) moves there — a plane that took the first rows of a tangent fillet gives
+  // them back. Two passes; the second on refits of the regions that changed (the others' fits are
+  // those of their current members).
+  RegionGrower& grower = *grower_;
+  std::vector<char> changed(regions_.size(), 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (std::size_t r = 0; r < regions_.size(); ++r)
+      if (alive_[r] && changed[r]) {
+        FitResult refit = grower.fit(fits_[r].type, regions_[r]);
+        if (refit.ok())
+          fits_[r] = std::move(refit);
+      }
+    std::vector<std::pair<int, std::int32_t>> moves;
+    for (std::size_t i = 0; i < n_; ++i) {
+      const std::int32_t own = result_.labels[i];
+      if (own < 0)
+        continue;
+      const Eigen::Vector3d p = points_.col(static_cast<Eigen::Index>(i));
+      double best = distance(p, fits_[static_cast<std::size_t>(own)].refined);
+      std::int32_t label = own;
+      for (pcl::index_t j : hoods_[i]) {
+        const std::int32_t other = result_.labels[static_cast<std::size_t>(j)];
+        if (other < 0 || other == own || other == label)
+          continue;
+        const Primitive& candidate = fits_[static_cast<std::size_t>(other)].refined;
+        const double d = distance(p, candidate);
+        if (d < best && grower.accepts(static_cast<int>(i), candidate)) {
+          best = d;
+          label = other;
+        }
+      }
+      if (label != own)
+        moves.emplace_back(static_cast<int>(i), label);
+    }
+    if (moves.empty())
+      break;
+    for (const auto& [i, label] : moves) {
+      changed[static_cast<std::size_t>(result_.labels[static_cast<std::size_t>(i)])] = 1;
+      changed[static_cast<std::size_t>(label)] = 1;
+      result_.labels[static_cast<std::size_t>(i)] = label;
+    }
+    relabelFromRegions();
+    for (std::size_t r = 0; r < regions_.size(); ++r)
+      if (alive_[r] && regions_[r].size() < static_cast<std::size_t>(minimumPoints(fits_[r].type)))
+        drop(r);
+  }
+}
+
+void SegmentationKernel::joinCreases() {
+  // Points left over at creases (where estimated normals blur) join the adjacent region whose
+  // primitive is nearest, when within the distance tolerance; the normal test is waived.
+  const RegionGrower& grower = *grower_;
+  for (int pass = 0, assigned = 1; assigned && pass < 2; ++pass) {
+    assigned = 0;
+    std::vector<std::pair<int, std::int32_t>> joins;
+    for (std::size_t i = 0; i < n_; ++i) {
+      if (result_.labels[i] >= 0)
+        continue;
+      double best = grower.tolerance(static_cast<int>(i));
+      std::int32_t label = -1;
+      for (pcl::index_t j : hoods_[i]) {
+        const std::int32_t other = result_.labels[static_cast<std::size_t>(j)];
+        if (other < 0 || other == label)
+          continue;
+        const double d = distance(points_.col(static_cast<Eigen::Index>(i)),
+                                  fits_[static_cast<std::size_t>(other)].refined);
+        if (d <= best) {
+          best = d;
+          label = other;
+        }
+      }
+      if (label >= 0)
+        joins.emplace_back(static_cast<int>(i), label);
+    }
+    for (const auto& [i, label] : joins) {
+      result_.labels[static_cast<std::size_t>(i)] = label;
+      regions_[static_cast<std::size_t>(label)].push_back(i);
+      assigned = 1;
+    }
+  }
+}
+
+void SegmentationKernel::dropNonSurfaces() {
+  // A surface, not a volume: points spread uniformly through the slab |D| ≤ ε have an RMS
+  // distance of ε/√3 ≈ 0.58 ε; a surface with Gaussian noise (ε = 3σ) about 0.33 ε, quantized
+  // depth at most 0.29 ε (its error, uniform within ±step/2, fills half the slab), noise-free data
+  // far less. A region above kVolumeRatio ε (each distance in units of its point's tolerance) is
+  // random points that happen to lie within ε of some primitive (a cloud of noise): dropped.
+  const RegionGrower& grower = *grower_;
+  const QuantizedAxis& lattice = result_.lattice;
+  for (std::size_t r = 0; r < regions_.size(); ++r) {
+    if (!alive_[r])
+      continue;
+    const std::vector<int>& members = regions_[r];
+    double sum = 0.0;
+    for (int i : members) {
+      const double d = distance(points_.col(i), fits_[r].refined) / grower.tolerance(i);
+      sum += d * d;
+    }
+    // With a quantized axis, a region all on one level is a slice of the sensor's lattice: its
+    // shape along that axis is not measured.
+    bool one_level = lattice.detected();
+    for (std::size_t j = 1; one_level && j < members.size(); ++j)
+      one_level = points_(lattice.axis, members[j]) == points_(lattice.axis, members[0]);
+    if (one_level || std::sqrt(sum / static_cast<double>(members.size())) > kVolumeRatio) {
+      drop(r);
+      ++result_.volumes;
+    }
+  }
+}
+
+SegmentationResult SegmentationKernel::finalize() {
+  // Largest first, indices ascending; labels renumbered to match.
+  const RegionGrower& grower = *grower_;
+  std::vector<std::size_t> order;
+  for (std::size_t r = 0; r < regions_.size(); ++r)
+    if (alive_[r])
+      order.push_back(r);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    return regions_[x].size() > regions_[y].size();
+  });
+  SegmentationResult result = std::move(result_);
+  std::fill(result.labels.begin(), result.labels.end(), -1);
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    Segment s;
+    s.indices = std::move(regions_[order[k]]);
+    std::sort(s.indices.begin(), s.indices.end());
+    // Refit on the final members (crease points joined after the last fit).
+    s.fit = grower.fit(fits_[order[k]].type, s.indices, true);
+    if (!s.fit.ok())
+      s.fit = std::move(fits_[order[k]]);
+    s.seed_type = seed_types_[order[k]];
+    refineFromSlippage(points_, normals_, s);
+    s.rms_distance = rmsOf(points_, s.indices, s.fit.refined, &s.max_distance);
+    for (int i : s.indices)
+      result.labels[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(k);
+    result.segments.push_back(std::move(s));
+  }
+  regions_.clear();
+  fits_.clear();
+  seed_types_.clear();
+  alive_.clear();
+  return result;
+}
+
+}  // namespace slipfit
