@@ -50,11 +50,38 @@ struct DataScale {
   double spacing = 0.0;  ///< median nearest-neighbor distance
 };
 
+/// Residual sum of squares of the height field h = a u² + b uv + c v² + d u + e v + f fitted
+/// to the points of \a v in the frame of their principal axes (h along the least one).
+double quadricResidual(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const NeighborView& v,
+                       const Eigen::Vector3d& mean, const Eigen::Matrix3d& axes) {
+  const auto k = static_cast<Eigen::Index>(v.size());
+  Eigen::MatrixXd a(k, 6);
+  Eigen::VectorXd h(k);
+  double scale = 0.0;
+  for (Eigen::Index j = 0; j < k; ++j) {
+    const Eigen::Vector3d d = axes.transpose() * (points.col(v[static_cast<std::size_t>(j)]) - mean);
+    scale = std::max(scale, std::abs(d(1)) + std::abs(d(2)));
+    h(j) = d(0);
+    a.row(j) << d(1) * d(1), d(1) * d(2), d(2) * d(2), d(1), d(2), 1.0;
+  }
+  if (!(scale > 0.0))
+    return 0.0;
+  // Normalised columns (the quadratic ones scale as scale², the linear as scale).
+  const double s2 = scale * scale;
+  a.col(0) /= s2;
+  a.col(1) /= s2;
+  a.col(2) /= s2;
+  a.col(3) /= scale;
+  a.col(4) /= scale;
+  const Eigen::VectorXd x = a.colPivHouseholderQr().solve(h);
+  return (a * x - h).squaredNorm();
+}
+
 DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neighborhoods& hoods) {
   std::vector<double> variance, spacing;
   const std::size_t n = hoods.size();
   const std::size_t stride = std::max<std::size_t>(1, n / 20000);  // a sample is enough
-  constexpr double kLowerQuartileZ = -0.6744897501960817;
+  constexpr double kQuantile = 0.25, kQuantileZ = -0.6744897501960817;
   for (std::size_t i = 0; i < n; i += stride) {
     const NeighborView v = hoods[i];
     if (v.size() < 5)
@@ -70,19 +97,26 @@ DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neig
       cov += d * d.transpose();
     }
     cov /= static_cast<double>(v.size());
-    // λ₀ is the mean squared residual of the best plane through the k points; on a smooth surface
-    // with Gaussian noise σ, k λ₀ ≈ σ² χ²_ν with ν = k − 3 degrees of freedom. Each neighborhood's
-    // value is scaled by the lower quartile of χ²_ν / ν, so that the lower quartile over all
-    // neighborhoods estimates σ²: robust to the half of them that straddle edges, thin walls or
-    // strong curvature (the median was not: a thin sheet put both faces in most neighborhoods).
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(cov);
     const double k = static_cast<double>(v.size());
-    const double lambda0 =
-        std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly)
-                          .eigenvalues()(0));
-    variance.push_back(lambda0 * k / (k - 3.0) /
-                       chiSquareQuantileOverDof(k - 3.0, kLowerQuartileZ));
+    // The noise is what a smooth surface does not explain. With k ≥ 10 points the surface is the
+    // local quadric height field (6 parameters: curvature is not noise — on sparse CAD parts the
+    // plane's residual λ₀ is the sagitta of the curved faces, not noise); with fewer, the plane
+    // (3). With Gaussian noise σ the residual sum of squares is σ² χ²_ν, ν = k − parameters. Each
+    // neighborhood's value is scaled by the lower quartile of χ²_ν / ν, so that the lower
+    // quartile over all neighborhoods estimates σ²: robust to the half of them that straddle
+    // edges or thin walls (the median was not: a thin sheet put both faces in most of them).
+    double rss = 0.0, nu = 0.0;
+    if (v.size() >= 10) {
+      rss = quadricResidual(points, v, mean, eigen.eigenvectors());
+      nu = k - 6.0;
+    } else {
+      rss = std::max(0.0, eigen.eigenvalues()(0)) * k;
+      nu = k - 3.0;
+    }
+    variance.push_back(rss / nu / chiSquareQuantileOverDof(nu, kQuantileZ));
   }
-  return {std::sqrt(quantile(std::move(variance), 0.25)), quantile(std::move(spacing), 0.5)};
+  return {std::sqrt(quantile(std::move(variance), kQuantile)), quantile(std::move(spacing), 0.5)};
 }
 
 /// Two planes more than the angle tolerance apart never merge; other pairs are tried.
