@@ -59,7 +59,8 @@ double quadricResidual(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const N
   Eigen::VectorXd h(k);
   double scale = 0.0;
   for (Eigen::Index j = 0; j < k; ++j) {
-    const Eigen::Vector3d d = axes.transpose() * (points.col(v[static_cast<std::size_t>(j)]) - mean);
+    const Eigen::Vector3d d =
+        axes.transpose() * (points.col(v[static_cast<std::size_t>(j)]) - mean);
     scale = std::max(scale, std::abs(d(1)) + std::abs(d(2)));
     h(j) = d(0);
     a.row(j) << d(1) * d(1), d(1) * d(2), d(2) * d(2), d(1), d(2), 1.0;
@@ -464,11 +465,44 @@ void SegmentationKernel::refineBoundaries() {
       if (alive_[r] && regions_[r].size() < static_cast<std::size_t>(minimumPoints(fits_[r].type)))
         drop(r);
   }
+  shareEdges();
+}
+
+void SegmentationKernel::shareEdges() {
+  // A point within tolerance of its own primitive and of a neighboring segment's lies on both
+  // surfaces (their edge): it belongs to both, and its label goes to the smaller segment, whose
+  // share of it is the larger (the Dice-optimal tie: Fit4CAD labels such points with both faces).
+  const RegionGrower& grower = *grower_;
+  std::vector<std::size_t> size(regions_.size());
+  for (std::size_t r = 0; r < regions_.size(); ++r)
+    size[r] = regions_[r].size();
+  std::vector<std::pair<int, std::int32_t>> moves;
+  for (std::size_t i = 0; i < n_; ++i) {
+    const std::int32_t own = result_.labels[i];
+    if (own < 0 || !grower.near(static_cast<int>(i), fits_[static_cast<std::size_t>(own)].refined))
+      continue;
+    std::int32_t label = own;
+    for (pcl::index_t j : hoods_[i]) {
+      const std::int32_t other = result_.labels[static_cast<std::size_t>(j)];
+      if (other < 0 || other == label ||
+          size[static_cast<std::size_t>(other)] >= size[static_cast<std::size_t>(label)])
+        continue;
+      if (grower.near(static_cast<int>(i), fits_[static_cast<std::size_t>(other)].refined))
+        label = other;
+    }
+    if (label != own)
+      moves.emplace_back(static_cast<int>(i), label);
+  }
+  for (const auto& [i, label] : moves)
+    result_.labels[static_cast<std::size_t>(i)] = label;
+  if (!moves.empty())
+    relabelFromRegions();
 }
 
 void SegmentationKernel::joinCreases() {
-  // Points left over at creases (where estimated normals blur) join the adjacent region whose
-  // primitive is nearest, when within the distance tolerance; the normal test is waived.
+  // Points left over at creases (where estimated normals blur) join an adjacent region whose
+  // primitive is within their distance tolerance (the normal test is waived); of several, the
+  // smallest (a crease point lies on both faces: see shareEdges).
   const RegionGrower& grower = *grower_;
   for (int pass = 0, assigned = 1; assigned && pass < 2; ++pass) {
     assigned = 0;
@@ -476,18 +510,15 @@ void SegmentationKernel::joinCreases() {
     for (std::size_t i = 0; i < n_; ++i) {
       if (result_.labels[i] >= 0)
         continue;
-      double best = grower.tolerance(static_cast<int>(i));
       std::int32_t label = -1;
       for (pcl::index_t j : hoods_[i]) {
         const std::int32_t other = result_.labels[static_cast<std::size_t>(j)];
-        if (other < 0 || other == label)
+        if (other < 0 || other == label ||
+            (label >= 0 && regions_[static_cast<std::size_t>(other)].size() >=
+                               regions_[static_cast<std::size_t>(label)].size()))
           continue;
-        const double d = distance(points_.col(static_cast<Eigen::Index>(i)),
-                                  fits_[static_cast<std::size_t>(other)].refined);
-        if (d <= best) {
-          best = d;
+        if (grower.near(static_cast<int>(i), fits_[static_cast<std::size_t>(other)].refined))
           label = other;
-        }
       }
       if (label >= 0)
         joins.emplace_back(static_cast<int>(i), label);

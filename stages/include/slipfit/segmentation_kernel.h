@@ -57,6 +57,7 @@ class SegmentationKernel {
   void growRegion(PrimitiveType type, std::vector<int> members, SlippageType seed_type,
                   bool type_chosen);
   void relabelFromRegions();
+  void shareEdges();
   void drop(std::size_t region);
 
   Eigen::Ref<const Eigen::Matrix3Xd> points_;  // views: the arrays outlive the object
