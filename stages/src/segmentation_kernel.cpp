@@ -469,9 +469,10 @@ void SegmentationKernel::refineBoundaries() {
 }
 
 void SegmentationKernel::shareEdges() {
-  // A point within tolerance of its own primitive and of a neighboring segment's lies on both
-  // surfaces (their edge): it belongs to both, and its label goes to the smaller segment, whose
-  // share of it is the larger (the Dice-optimal tie: Fit4CAD labels such points with both faces).
+  // A point that two adjacent primitives explain equally well — both within its tolerance, their
+  // distances within a third of it (≈ σ̂: the noise cannot tell them apart) — lies on their edge:
+  // it belongs to both, and its label goes to the smaller segment, whose share of it is the larger
+  // (the Dice-optimal tie: Fit4CAD labels such points with both faces).
   const RegionGrower& grower = *grower_;
   std::vector<std::size_t> size(regions_.size());
   for (std::size_t r = 0; r < regions_.size(); ++r)
@@ -479,19 +480,24 @@ void SegmentationKernel::shareEdges() {
   std::vector<std::pair<int, std::int32_t>> moves;
   for (std::size_t i = 0; i < n_; ++i) {
     const std::int32_t own = result_.labels[i];
-    if (own < 0 || !grower.near(static_cast<int>(i), fits_[static_cast<std::size_t>(own)].refined))
+    if (own < 0)
       continue;
+    const auto ii = static_cast<int>(i);
+    const Eigen::Vector3d p = points_.col(ii);
+    const double tolerance = grower.tolerance(ii);
+    const double tie = distance(p, fits_[static_cast<std::size_t>(own)].refined) + tolerance / 3.0;
     std::int32_t label = own;
     for (pcl::index_t j : hoods_[i]) {
       const std::int32_t other = result_.labels[static_cast<std::size_t>(j)];
       if (other < 0 || other == label ||
           size[static_cast<std::size_t>(other)] >= size[static_cast<std::size_t>(label)])
         continue;
-      if (grower.near(static_cast<int>(i), fits_[static_cast<std::size_t>(other)].refined))
+      const double d = distance(p, fits_[static_cast<std::size_t>(other)].refined);
+      if (d <= tolerance && d <= tie)
         label = other;
     }
     if (label != own)
-      moves.emplace_back(static_cast<int>(i), label);
+      moves.emplace_back(ii, label);
   }
   for (const auto& [i, label] : moves)
     result_.labels[static_cast<std::size_t>(i)] = label;
@@ -501,8 +507,8 @@ void SegmentationKernel::shareEdges() {
 
 void SegmentationKernel::joinCreases() {
   // Points left over at creases (where estimated normals blur) join an adjacent region whose
-  // primitive is within their distance tolerance (the normal test is waived); of several, the
-  // smallest (a crease point lies on both faces: see shareEdges).
+  // primitive is within their distance tolerance (the normal test is waived): the nearest, or of
+  // several about as near (within a third of the tolerance) the smallest (see shareEdges).
   const RegionGrower& grower = *grower_;
   for (int pass = 0, assigned = 1; assigned && pass < 2; ++pass) {
     assigned = 0;
@@ -510,6 +516,15 @@ void SegmentationKernel::joinCreases() {
     for (std::size_t i = 0; i < n_; ++i) {
       if (result_.labels[i] >= 0)
         continue;
+      const auto ii = static_cast<int>(i);
+      const Eigen::Vector3d p = points_.col(ii);
+      const double tolerance = grower.tolerance(ii);
+      double nearest = tolerance;
+      for (pcl::index_t j : hoods_[i]) {
+        const std::int32_t other = result_.labels[static_cast<std::size_t>(j)];
+        if (other >= 0)
+          nearest = std::min(nearest, distance(p, fits_[static_cast<std::size_t>(other)].refined));
+      }
       std::int32_t label = -1;
       for (pcl::index_t j : hoods_[i]) {
         const std::int32_t other = result_.labels[static_cast<std::size_t>(j)];
@@ -517,7 +532,8 @@ void SegmentationKernel::joinCreases() {
             (label >= 0 && regions_[static_cast<std::size_t>(other)].size() >=
                                regions_[static_cast<std::size_t>(label)].size()))
           continue;
-        if (grower.near(static_cast<int>(i), fits_[static_cast<std::size_t>(other)].refined))
+        const double d = distance(p, fits_[static_cast<std::size_t>(other)].refined);
+        if (d <= tolerance && d <= nearest + tolerance / 3.0)
           label = other;
       }
       if (label >= 0)

@@ -17,6 +17,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <set>
 #include <string>
 
@@ -98,9 +99,10 @@ std::size_t assigned(const SegmentationResult& r) {
 }
 
 // The table: 1 m from the camera, depth steps 2–4 mm. Measured: 0.31° from PCL's RANSAC plane
-// (1 cm threshold, refined on its inliers), 95 % of its inliers in the one plane segment, 96 % of
-// the scan assigned. The 0.1° is not reached: the Kinect's depth distortion bends the
-// table by about 2 mm, so the two inlier sets weigh the bend differently.
+// (1 cm threshold, refined on its inliers), 92 % of its inliers in the one plane segment (small
+// segments of table noise at its rim take the rest), 95 % of the scan assigned. The 0.1°
+// is not reached: the Kinect's depth distortion bends the table by about 2 mm, so the two inlier
+// sets weigh the bend differently.
 TEST(RealScan, MilkCartonTableIsOnePlaneNearPclRansacsAndNoSegmentIsADepthSlice) {
   const std::string name = "milk_cartoon_all_small_clorox.pcd";
   const auto cloud = loadScan(name);
@@ -114,10 +116,16 @@ TEST(RealScan, MilkCartonTableIsOnePlaneNearPclRansacsAndNoSegmentIsADepthSlice)
   const std::size_t k = segmentHolding(r, inliers);
   const Segment& s = r.segments[k];
   ASSERT_EQ(s.fit.type, PrimitiveType::plane) << "segment " << k;
-  EXPECT_LT(angleDegrees(std::get<Plane>(s.fit.refined).normal, oracle.normal), 0.5);
+  const double angle = angleDegrees(std::get<Plane>(s.fit.refined).normal, oracle.normal);
+  EXPECT_LT(angle, 0.5);
   std::size_t shared = 0;
   for (const auto i : inliers.indices)
     shared += r.labels[static_cast<std::size_t>(i)] == static_cast<std::int32_t>(k) ? 1 : 0;
+  std::cout << name << ": table " << angle << "° from PCL's RANSAC plane, "
+            << static_cast<double>(shared) / static_cast<double>(inliers.indices.size())
+            << " of its inliers, "
+            << static_cast<double>(assigned(r)) / static_cast<double>(cloud->size())
+            << " of the scan assigned, " << r.segments.size() << " segments\n";
   EXPECT_GE(static_cast<double>(shared), 0.9 * static_cast<double>(inliers.indices.size()));
 }
 
@@ -130,6 +138,8 @@ TEST(RealScan, OfficeIsSegmentedWithoutDepthSlices) {
   if (!cloud)
     GTEST_SKIP() << "../shared/data/pcl/" << name << " is absent: the real-scan check needs it";
   const SegmentationResult r = segmentScan(cloud, name);
+  std::cout << name << ": " << static_cast<double>(assigned(r)) / static_cast<double>(cloud->size())
+            << " of the scan assigned, " << r.segments.size() << " segments\n";
   EXPECT_GE(static_cast<double>(assigned(r)), 0.99 * static_cast<double>(cloud->size()));
   ASSERT_GE(r.segments.size(), 3u);
   for (std::size_t j = 0; j < 3; ++j)
