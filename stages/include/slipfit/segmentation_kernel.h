@@ -74,6 +74,7 @@ class SegmentationKernel {
   std::vector<FitResult> fits_;
   std::vector<SlippageType> seed_types_;
   std::vector<char> alive_;
+  double edge_margin_ = 0.0;  ///< distances within this are a tie (shareEdges), units
 };
 
 }  // namespace slipfit
