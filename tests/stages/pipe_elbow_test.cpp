@@ -113,7 +113,10 @@ TEST(PipeElbows, EveryElbowIsATorusAndEveryRunACylinder) {
               << "\n";
     ASSERT_GE(m, 0) << "piece " << k;
     EXPECT_EQ(r.segments[static_cast<std::size_t>(m)].fit.type, pieces[k].type) << "piece " << k;
-    EXPECT_GE(score.iou[k], 0.0) << "piece " << k;
+    // Measured (4 L-pipes, σ = 0.002, tube radii 0.08–0.2): elbows 0.67–0.81, runs 0.83–0.95.
+    // Where a run meets its elbow tangentially the two surfaces stay within the noise of each
+    // other for an arc of about √(2Rσ) at each end, and the run keeps most of those points.
+    EXPECT_GE(score.iou[k], pieces[k].type == PrimitiveType::torus ? 0.65 : 0.8) << "piece " << k;
   }
 }
 
