@@ -7,11 +7,13 @@ namespace slipfit {
 
 namespace {
 
-constexpr std::size_t kLevelPoints = 8;    // a level holds at least this many points
-constexpr double kOnLevels = 0.99;         // the share of points on such levels
-constexpr std::size_t kMinLevels = 16;     // fewer levels are faces, not a lattice
-constexpr double kMaxStepRatio = 2.0;      // neighboring steps of a lattice change slowly
-constexpr std::ptrdiff_t kStepWindow = 3;  // local step: median of the 6 gaps around a level
+constexpr std::size_t kLevelPoints = 8;  // a level holds at least this many points
+constexpr double kOnLevels = 0.99;       // the share of points on such levels
+constexpr std::size_t kMinLevels = 16;   // fewer levels are faces, not a lattice
+constexpr double kMaxStepRatio = 2.0;    // neighboring steps of a lattice change slowly
+constexpr std::ptrdiff_t kStepWindow = 3;
+constexpr double kCoarserThanOthers = 4.0;  // the depth lattice against any other axis's  // local
+                                            // step: median of the 6 gaps around a level
 
 double medianOf(std::vector<double> v) {
   auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
@@ -85,7 +87,7 @@ double QuantizedAxis::maxStep() const {
 
 QuantizedAxis detectQuantizedAxis(const Eigen::Ref<const Eigen::Matrix3Xd>& points) {
   QuantizedAxis best;
-  double best_step = 0.0;
+  double best_step = 0.0, other_step = 0.0;
   for (int axis = 0; axis < 3; ++axis) {
     std::vector<double> values;
     values.reserve(static_cast<std::size_t>(points.cols()));
@@ -97,11 +99,16 @@ QuantizedAxis detectQuantizedAxis(const Eigen::Ref<const Eigen::Matrix3Xd>& poin
       continue;
     const double step = medianOf(q.steps);
     if (step > best_step) {
+      other_step = best_step;
       best_step = step;
       best = std::move(q);
+    } else {
+      other_step = std::max(other_step, step);
     }
   }
-  return best;
+  // A depth sensor's levels are far coarser than anything on the other axes; two axes on lattices
+  // of like steps are a regular grid sampling, where every point has its own neighbors.
+  return best_step >= kCoarserThanOthers * other_step ? best : QuantizedAxis{};
 }
 
 }  // namespace slipfit

@@ -30,10 +30,15 @@ bool isNearlyDegenerate(const Primitive& primitive,
   if (const auto* c = std::get_if<Cylinder>(&primitive))
     return c->radius > kFlatRadiusRatio * spread(points, c->axis.normalized());
   if (const auto* k = std::get_if<Cone>(&primitive)) {
-    // Its curvature radius at the points' centroid: the distance from the axis / cos(half-angle).
+    // Its curvature radius at the points: their (RMS) distance from the axis / cos(half-angle).
     const Eigen::Vector3d a = k->axis.normalized();
-    const Eigen::Vector3d d = points.rowwise().mean() - k->apex;
-    const double rho = (d - d.dot(a) * a).norm();
+    double sum = 0.0;
+    for (Eigen::Index i = 0; i < points.cols(); ++i) {
+      const Eigen::Vector3d d = points.col(i) - k->apex;
+      sum += (d - d.dot(a) * a).squaredNorm();
+    }
+    const double rho =
+        points.cols() > 0 ? std::sqrt(sum / static_cast<double>(points.cols())) : 0.0;
     return rho >
            kFlatRadiusRatio * std::cos(k->half_angle) * spread(points, Eigen::Vector3d::Zero());
   }

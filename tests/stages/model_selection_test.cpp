@@ -109,5 +109,31 @@ TEST(FitAutoLimits, TorusOfHugeMajorRadiusIsACylinder) {
   EXPECT_EQ(autoType(sample(p)), PrimitiveType::torus);
 }
 
+// The flat limit (isNearlyDegenerate): a Kinect-like table, 1.5 wide, bent into a sphere of
+// radius 60 (sagitta 1.5²/(8·60) ≈ 4.7 mm) with 1 mm noise. The sphere fits it far better than the
+// plane (its RMS is the noise, the plane's carries the bend), yet its radius is 140 × the points'
+// spread: it is the plane's limit, and the plane is the answer.
+TEST(FitAutoLimits, SphereFarWiderThanItsPointsIsAPlane) {
+  PrimitiveSamplingParameters p;
+  p.primitive = Sphere{Eigen::Vector3d(0, 0, -60), 60.0};
+  p.cap = std::asin(0.75 / 60.0);
+  p.points = 5000;
+  p.noise = 1e-3;
+  p.seed = 5;
+  const Cloud c = sample(p);
+  const Eigen::VectorXd w = Eigen::VectorXd::Ones(c.points.cols());
+  const FitResult plane = fitPrimitive(PrimitiveType::plane, c.points, c.normals, w);
+  const FitResult sphere = fitPrimitive(PrimitiveType::sphere, c.points, c.normals, w);
+  ASSERT_TRUE(plane.ok() && sphere.ok());
+  // Residuals alone would pick the sphere: the plane is beyond the 25 % margin.
+  EXPECT_GT(plane.rms_distance, (1.0 + kAdequacyMargin) * sphere.rms_distance);
+  EXPECT_TRUE(isNearlyDegenerate(sphere.refined, c.points));
+  EXPECT_EQ(autoType(c), PrimitiveType::plane);
+  // Radius 5 over the same width: 20 × the spread, a sphere.
+  p.primitive = Sphere{Eigen::Vector3d(0, 0, -5), 5.0};
+  p.cap = std::asin(0.75 / 5.0);
+  EXPECT_EQ(autoType(sample(p)), PrimitiveType::sphere);
+}
+
 }  // namespace
 }  // namespace slipfit

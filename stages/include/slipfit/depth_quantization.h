@@ -29,8 +29,10 @@ struct QuantizedAxis {
 
 /// An axis is quantized when at least 99 % of the points lie on values shared by 8 or more points,
 /// on at least 16 such levels whose consecutive steps change slowly (the median ratio of
-/// neighboring steps within 2): a lattice, not a few flat faces of a CAD part. Of several such
-/// axes the one with the coarsest median step is returned. Non-finite points are ignored.
+/// neighboring steps within 2): a lattice, not a few flat faces of a CAD part. The coarsest such
+/// axis is returned when its median step is at least 4 × that of any other lattice axis: axes on
+/// lattices of like steps are a regular grid sampling, not a depth sensor's levels (then none is
+/// returned). Non-finite points are ignored.
 /// \param points 3×N coordinates.
 QuantizedAxis detectQuantizedAxis(const Eigen::Ref<const Eigen::Matrix3Xd>& points);
 
