@@ -28,6 +28,7 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
   kernel.growSlippageSeeds();
   kernel.growFreeSeeds();
   kernel.mergeRegions();
+  kernel.reviseTypes();
   kernel.refineBoundaries();
   kernel.joinCreases();
   kernel.dropNonSurfaces();

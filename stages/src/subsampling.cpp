@@ -156,4 +156,31 @@ Subsample voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::s
   return s;
 }
 
+RepresentedMean representedMean(const Eigen::Ref<const Eigen::Matrix3Xf>& points,
+                                const Subsample& sample) {
+  if (sample.representative.size() != static_cast<std::size_t>(points.cols()))
+    throw InvalidParameterError("represented mean: the sample is not of these points");
+  const std::size_t kept = sample.kept.size();
+  Eigen::Matrix3Xd sum = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(kept));
+  RepresentedMean out;
+  out.count.assign(kept, 0);
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    const std::int32_t r = sample.representative[static_cast<std::size_t>(i)];
+    if (r < 0)
+      continue;
+    if (static_cast<std::size_t>(r) >= kept || !points.col(i).allFinite())
+      throw InvalidParameterError("represented mean: the sample is not of these points");
+    sum.col(r) += points.col(i).cast<double>();
+    ++out.count[static_cast<std::size_t>(r)];
+  }
+  out.mean.resize(3, static_cast<Eigen::Index>(kept));
+  for (std::size_t k = 0; k < kept; ++k) {
+    if (out.count[k] == 0)
+      throw InvalidParameterError("represented mean: a kept point represents no point");
+    out.mean.col(static_cast<Eigen::Index>(k)) =
+        (sum.col(static_cast<Eigen::Index>(k)) / static_cast<double>(out.count[k])).cast<float>();
+  }
+  return out;
+}
+
 }  // namespace slipfit

@@ -82,6 +82,29 @@ TEST(SegmentationCli, DemoFindsTheSceneAndWritesEveryOutput) {
   EXPECT_EQ(be32(20), 768u);
 }
 
+// The demo scene analysed on a third of its points (sample.points = 15000): at the voxels' means
+// (the default) and at their first points, the carry-back labels all 50,000. Measured mean IoU
+// 0.965 (mean) and 0.966 (first), 99.8 % and 99.9 % of the points assigned: the means' smaller
+// scatter does not shrink the input points' tolerance (the carry-back re-estimates it).
+TEST(SegmentationCli, SubsampleAtVoxelMeansOrFirstPointsCarriesBackEveryPoint) {
+  for (const std::string position : {"mean", "first"}) {
+    const std::string out = scratchDir("demo_sample_" + position);
+    const CliResult r = runSlipfit("run configs/demo.yaml --set sample.points=15000 --set "
+                                   "sample.position=" + position + " --set 'segments.render=\"\"' "
+                                   "--set output.dir=" + out);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.out.find("at the mean of") != std::string::npos, position == "mean") << r.out;
+    const auto cloud = pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
+    const std::vector<std::int32_t> label = intField(cloud, "label");
+    ASSERT_EQ(label.size(), 50000u);
+    const SegmentationScore score = scoreSegmentation(intField(cloud, "truth_label"), label);
+    std::cout << position << ": mean IoU " << score.mean_iou << "\n";
+    EXPECT_GE(score.mean_iou, 0.96) << position;
+    EXPECT_GE(std::count_if(label.begin(), label.end(), [](std::int32_t l) { return l >= 0; }),
+              49800);
+  }
+}
+
 // Every step reports its time and its own peak memory per input point; the analysis fields
 // (slippage, neighborhood sizes) are carried back to every point only when something reads
 // them: here output.cloud asks for the all-fields cloud, and the labels must agree with

@@ -6,9 +6,12 @@
 #include "slipfit/splat_renderer.h"
 #include "slipfit/subsampling.h"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <random>
 
 namespace slipfit {
@@ -119,6 +122,54 @@ TEST(Subsampling, VoxelSampleKeepsOnePointPerVoxel) {
   EXPECT_EQ(s.kept, (std::vector<std::int32_t>{0, 3, 5}));
   EXPECT_EQ(s.representative, (std::vector<std::int32_t>{0, 0, 0, 1, 1, 2, 0, 2}));
   EXPECT_THROW(voxelSample(x, 0.0), InvalidParameterError);
+}
+
+TEST(Subsampling, RepresentedMeanIsTheCentroidOfEachVoxel) {
+  Eigen::Matrix3Xf x(3, 8);
+  x << 0.0f, 0.1f, 0.9f, 1.1f, 1.2f, 2.5f, 0.05f, 2.9f,  //
+      0, 0, 0, 0, 0, 0, 0, 0,                            //
+      0, 0, 0, 0, 0, 0, 0, 0.5f;
+  const Subsample s = voxelSample(x, 1.0);
+  const RepresentedMean mean = representedMean(x, s);
+  EXPECT_EQ(mean.count, (std::vector<std::uint32_t>{4, 2, 2}));
+  EXPECT_NEAR(mean.mean(0, 0), (0.0 + 0.1 + 0.9 + 0.05) / 4, 1e-6);
+  EXPECT_NEAR(mean.mean(0, 1), 1.15, 1e-6);
+  EXPECT_NEAR(mean.mean(0, 2), 2.7, 1e-6);
+  EXPECT_NEAR(mean.mean(2, 2), 0.25, 1e-6);
+  EXPECT_THROW(representedMean(x.leftCols(7), s), InvalidParameterError);
+}
+
+// A dense noisy plane (σ a twentieth of the voxel, about 290 points a voxel): each voxel's mean
+// averages its points' noise, so most means lie far closer to the plane than the points do. Not
+// σ/√m (0.06 σ) for all: a voxel face that cuts the noise slab obliquely keeps one side's points
+// near it, and a voxel the plane only clips holds few of them, off by up to σ. Measured (seed 5):
+// median distance 0.27 σ, RMS 0.86 σ (0.19 σ and 0.58 σ with another frame in the plane; at σ a
+// fifth of the voxel the RMS is 1.4 σ: the gain is then only in the median). Asserted: median
+// below 0.35 σ, RMS below σ (the points' own).
+TEST(Subsampling, VoxelMeansOfADenseNoisyPlaneLieCloserToItThanItsPoints) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const double sigma = 0.0025;
+  std::normal_distribution<float> g(0.0f, static_cast<float>(sigma));
+  const Eigen::Vector3f normal = Eigen::Vector3f(1, 2, 3).normalized();
+  const Eigen::Vector3f e1 = normal.unitOrthogonal(), e2 = normal.cross(e1);
+  Eigen::Matrix3Xf x(3, 200000);
+  for (Eigen::Index i = 0; i < x.cols(); ++i)
+    x.col(i) = u(rng) * e1 + u(rng) * e2 + g(rng) * normal;
+  const Subsample s = voxelSample(x, 0.05);
+  const RepresentedMean mean = representedMean(x, s);
+  std::vector<double> d;
+  double sum = 0.0;
+  for (Eigen::Index k = 0; k < mean.mean.cols(); ++k) {
+    d.push_back(std::abs(double(normal.dot(mean.mean.col(k)))));
+    sum += d.back() * d.back();
+  }
+  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+  const double median = d[d.size() / 2], rms = std::sqrt(sum / double(d.size()));
+  std::cout << "voxel means: median " << median / sigma << " sigma, rms " << rms / sigma
+            << " sigma\n";
+  EXPECT_LT(median, 0.35 * sigma);
+  EXPECT_LT(rms, sigma);
 }
 
 TEST(SplatRenderer, NearestSplatWinsAndColoursAreShaded) {

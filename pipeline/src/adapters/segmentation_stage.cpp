@@ -171,8 +171,10 @@ class SegmentationStage : public Stage {
                           bool stage_fields) {
     const std::vector<std::int32_t> representative = data.representative;
     const std::shared_ptr<const Neighborhoods> hoods = data.neighborhoods;
+    const bool averaged = data.averaged;
     data.expandToFull(stage_fields);
-    carrySegmentationBack(coordinates(*data.cloud), representative, *hoods, result, threads);
+    carrySegmentationBack(coordinates(*data.cloud), representative, *hoods, result, threads,
+                          averaged);
   }
 
   void writeReport(const SegmentationResult& result, const pcl::PointCloud<pcl::PointNormal>& cloud,

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <ostream>
+#include <sstream>
 #include <string>
 
 namespace slipfit::pipeline::adapters {
@@ -15,6 +16,12 @@ enum class Mode { random, voxel };
 constexpr std::array<std::pair<Mode, std::string_view>, 2> kModeNames{{
     {Mode::random, "random"},
     {Mode::voxel, "voxel"},
+}};
+
+enum class Position { mean, first };
+constexpr std::array<std::pair<Position, std::string_view>, 2> kPositionNames{{
+    {Position::mean, "mean"},
+    {Position::first, "first"},
 }};
 
 class SubsampleStage : public Stage {
@@ -30,6 +37,10 @@ class SubsampleStage : public Stage {
         .unit("points")
         .range(100, 1e9);
     o.add("leaf", leaf_, "Voxel mode: voxel edge; overrides points.").unit("units").above(0);
+    o.add("position", position_, kPositionNames,
+          "Voxel mode: where the analysis point lies. mean: at the centroid of its voxel's points "
+          "(as PCL's VoxelGrid): their noise averages down, so normals and fits on dense surfaces "
+          "see more than one sample's scatter; first: at the voxel's first input point.");
   }
 
   DataFlow flow() const override { return {kPoints, 0u}; }
@@ -55,12 +66,26 @@ class SubsampleStage : public Stage {
     for (std::int32_t k : s.kept)
       keep[static_cast<std::size_t>(k)] = 1;
     data.keepOnly(keep);
+    std::string placed;
+    if (mode_ == Mode::voxel && position_ == Position::mean) {
+      RepresentedMean mean = representedMean(x, s);
+      std::size_t averaged = 0;
+      for (std::size_t k = 0; k < s.kept.size(); ++k) {
+        (*data.cloud)[k].getVector3fMap() = mean.mean.col(static_cast<Eigen::Index>(k));
+        averaged += mean.count[k];
+      }
+      data.averaged = true;
+      std::ostringstream text;
+      text << ", at the mean of " << static_cast<double>(averaged) / double(s.kept.size())
+           << " points on average";
+      placed = text.str();
+    }
     data.full = std::move(full);
     data.representative = s.representative;
     context.report << "subsample: " << data.size() << " of " << data.full->size()
                    << " points analysed ("
                    << (mode_ == Mode::random ? std::string("random")
-                                             : "voxel " + std::to_string(s.leaf))
+                                             : "voxel " + std::to_string(s.leaf) + placed)
                    << "); results are carried back to every point\n";
   }
 
@@ -68,6 +93,7 @@ class SubsampleStage : public Stage {
   Mode mode_ = Mode::random;
   int points_ = 150000;
   std::optional<double> leaf_;
+  Position position_ = Position::mean;
 };
 
 }  // namespace

@@ -64,10 +64,13 @@ struct SegmentationResult {
     return distance + step_factor * lattice.stepAt(p);
   }
   double noise = 0.0;             ///< the noise estimate σ̂ (units)
+  /// distance = noise_factor · noise + a floor from the spacing; 0 when the distance was given.
+  double noise_factor = 0.0;
   double max_angle = 0.0;         ///< the angle tolerance used, radians
   std::size_t min_points = 0;     ///< the smallest segment allowed
   std::size_t regions_grown = 0;  ///< seeds that were grown (kept or not)
   std::size_t merges = 0;         ///< pairs of segments merged
+  std::size_t revised = 0;        ///< regions whose type the contested points changed
   /// Regions dropped because their points fill the tolerance slab like random points (RMS
   /// distance above 0.45 ε), not a surface: a cloud of noise gives no segment.
   std::size_t volumes = 0;

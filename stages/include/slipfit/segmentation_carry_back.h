@@ -19,10 +19,16 @@ namespace slipfit {
 /// \a representative: per input point the index of its kept point in the sample, or −1;
 /// \a sample_neighborhoods: the sample's neighborhoods; \a result: the sample's segmentation, whose
 /// labels (per sample point) and segments are replaced by the input's. \a threads: 0 = all cores.
+/// \a averaged: the sample's points are means of the input points they represent (voxel
+/// centroids, representedMean), so their scatter — and the noise term of result.distance —
+/// understates an input point's. The noise is then re-estimated on the input points (the median
+/// distance to the nearest primitive around each, within 3 × the distance, over 0.6745, a
+/// Gaussian's median |x|) and, when larger, result.noise and the distance's noise term
+/// (result.noise_factor; none when the distance was given) take it.
 /// Deterministic for any thread count. Throws DegenerateInputError on mismatched sizes.
 void carrySegmentationBack(
     const Eigen::Ref<const Eigen::Matrix3Xf, 0, Eigen::OuterStride<>>& points,
     const std::vector<std::int32_t>& representative, const Neighborhoods& sample_neighborhoods,
-    SegmentationResult& result, int threads = 0);
+    SegmentationResult& result, int threads = 0, bool averaged = false);
 
 }  // namespace slipfit

@@ -8,11 +8,13 @@
 /// 3. growFreeSeeds — a second seeding round from the points still free (small faces whose
 ///    neighborhoods all straddle an edge), with the simplest adequate type of the seed's neighbors;
 /// 4. mergeRegions — adjacent regions whose union one primitive fits about as well;
-/// 5. refineBoundaries — points that a neighboring segment's primitive explains better move;
-/// 6. joinCreases — free points at creases join the nearest adjacent primitive within tolerance;
-/// 7. dropNonSurfaces — regions that fill their tolerance slab like random points, or lie on one
+/// 5. reviseTypes — a region's type re-chosen on the points of its neighbors it contests (the
+///    band of a tangent fillet that read as a plane);
+/// 6. refineBoundaries — points that a neighboring segment's primitive explains better move;
+/// 7. joinCreases — free points at creases join the nearest adjacent primitive within tolerance;
+/// 8. dropNonSurfaces — regions that fill their tolerance slab like random points, or lie on one
 ///    level of a quantized axis, are dropped;
-/// 8. finalize — largest first, every segment refitted on all its members.
+/// 9. finalize — largest first, every segment refitted on all its members.
 ///
 /// Each phase can be run and inspected on its own (regions()), which is how the tests look inside.
 /// The design and its figures: docs/THEORY.md §6.
@@ -42,6 +44,7 @@ class SegmentationKernel {
   void growSlippageSeeds();
   void growFreeSeeds();
   void mergeRegions();
+  void reviseTypes();
   void refineBoundaries();
   void joinCreases();
   void dropNonSurfaces();
@@ -50,6 +53,8 @@ class SegmentationKernel {
 
   /// The regions so far (empty member lists are regions dropped or merged away).
   const std::vector<std::vector<int>>& regions() const { return regions_; }
+  /// Each region's fit so far (that of a region dropped or merged away is stale).
+  const std::vector<FitResult>& fits() const { return fits_; }
   /// The tolerances and counters so far (segments are filled by finalize()).
   const SegmentationResult& progress() const { return result_; }
 

@@ -47,6 +47,8 @@ struct PointData {
   /// for each full point the index of its representative here.
   std::shared_ptr<PointData> full;
   std::vector<std::int32_t> representative;
+  /// Set with `full` when each analysis point lies at the mean of the points it represents.
+  bool averaged = false;
 
   std::size_t size() const { return cloud->size(); }
   unsigned available() const {
