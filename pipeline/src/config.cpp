@@ -44,6 +44,9 @@ class Loader {
       fail("config '" + path_ + "': no such file");
     if (std::filesystem::is_directory(path_, ec))
       fail("config '" + path_ + "': is a directory, not a YAML file");
+    if (!std::filesystem::is_regular_file(path_, ec))
+      fail("config '" + path_ +
+           "': not a regular file (a FIFO, socket or device would block or never end)");
     try {
       root_ = YAML::LoadFile(path_);
     } catch (const YAML::ParserException& e) {

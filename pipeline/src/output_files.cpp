@@ -26,6 +26,10 @@ void OutputFiles::add(const std::string& name,
     throw RunError("output.dir '" + dir_ + "': cannot create the directory (" +
                    (ec ? ec.message() : std::string("not a directory")) + ")");
   const fs::path final_path = fs::path(dir_) / name;
+  for (const std::string& input : protected_)
+    if (fs::equivalent(final_path, input, ec))
+      throw RunError("output '" + final_path.string() + "' is the input '" + input +
+                     "': nothing is written over it; choose another name or output.dir");
   // Same directory, so that the final rename is atomic; the extension stays last so that writers
   // that look at it (PLY, OFF) still recognise the format.
   const fs::path tmp =

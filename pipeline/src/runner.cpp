@@ -135,6 +135,8 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
 
   // Stages may add files (meshes); everything is renamed into place only at the end.
   OutputFiles outputs(config.output.dir);
+  if (!config.input.path.empty())
+    outputs.protect(config.input.path);
   for (std::size_t i = 0; i < config.stages.size(); ++i) {
     auto& s = config.stages[i];
     // A stage's report lines wait until its progress line is finished, so the two never mix.

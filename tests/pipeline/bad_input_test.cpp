@@ -50,12 +50,15 @@ TEST_P(BadInputs, OneLineExitCodeNoOutput) {
   const std::string dir = std::string(kSourceDir) + "/tests/bad_inputs";
   for (auto at = yaml.find("{dir}"); at != std::string::npos; at = yaml.find("{dir}"))
     yaml.replace(at, 5, dir);
+  std::string prefix = c.prefix;
+  for (auto at = prefix.find("{dir}"); at != std::string::npos; at = prefix.find("{dir}"))
+    prefix.replace(at, 5, dir);
   const std::string out = scratchDir("bad_" + c.name);
   const bool own_output =
       yaml.find("dir: /") != std::string::npos && yaml.find("output:") != std::string::npos;
   const std::string cfg = scratchFile("bad_" + c.name + ".yaml", yaml);
   const CliResult r =
-      runSlipfit("run '" + cfg + "'" + (own_output ? "" : " --set output.dir=" + out), c.prefix);
+      runSlipfit("run '" + cfg + "'" + (own_output ? "" : " --set output.dir=" + out), prefix);
   EXPECT_EQ(r.code, c.exit) << r.err;
   if (c.exit == 0) {
     EXPECT_EQ(r.err, "");

@@ -16,8 +16,11 @@ class OutputFiles {
   /// Removes the temporary files of an uncommitted run.
   ~OutputFiles();
 
+  /// A file no output may replace (the input cloud): add() refuses a name that is it.
+  void protect(const std::string& path) { protected_.push_back(path); }
   /// Creates the directory if needed and calls \a write with a temporary path next to \a name.
-  /// Throws RunError when the directory cannot be created or \a write fails.
+  /// Throws RunError when the directory cannot be created, the final path is a protected file,
+  /// or \a write fails.
   void add(const std::string& name, const std::function<void(const std::string& path)>& write);
   /// add() for a text file.
   void addText(const std::string& name, const std::string& text);
@@ -26,6 +29,7 @@ class OutputFiles {
 
  private:
   std::string dir_;
+  std::vector<std::string> protected_;
   std::vector<std::pair<std::string, std::string>> pending_;  // temporary, final
 };
 

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace slipfit {
@@ -35,6 +36,15 @@ inline void thinWidened(pcl::Indices& indices, std::vector<float>& sqr_distances
   indices.resize(out);
   sqr_distances.resize(out);
 }
+
+namespace detail {
+inline std::string radiusTooLarge(double radius, std::size_t cap, std::size_t points) {
+  return "neighborhood_selection: radius " + std::to_string(radius) + " holds more than " +
+         std::to_string(cap) + " neighbors around some points (the lists of all " +
+         std::to_string(points) +
+         " points would pass 2^29 entries, 4 GB); use a smaller radius or set max_neighbors";
+}
+}  // namespace detail
 
 template <typename PointT>
 void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
@@ -89,6 +99,43 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
   const int k_query = par.mode == NeighborhoodMode::adaptive ? par.k_max : par.k;
   const float r2 = par.radius ? static_cast<float>(*par.radius * *par.radius) : 0.0f;
 
+  // Radius lists are bounded so that the memory cannot run away with a radius that covers much of
+  // the cloud: at most kMaxEntries entries in all (8 bytes each: 4 GB), so per point the budget
+  // over the queried points (or max_neighbors, if smaller). A list that reaches the bound ends the
+  // run with an error that says so, rather than a partial neighborhood or an allocation failure.
+  constexpr std::size_t kMaxEntries = std::size_t{1} << 29;
+  std::size_t radius_cap = 0;
+  if (par.mode == NeighborhoodMode::radius) {
+    const std::size_t budget = kMaxEntries / std::max<std::size_t>(1, indices_->size());
+    radius_cap = par.max_neighbors ? std::min<std::size_t>(budget, *par.max_neighbors) : budget;
+    radius_cap = std::max<std::size_t>(radius_cap, 1);
+  }
+  bool over_budget = false;
+  std::string failure;
+  if (par.mode == NeighborhoodMode::radius) {
+    // A look at 256 evenly spread points first: a radius that covers much of the cloud is told
+    // before any list is built (their mean count, times the points, must fit the budget too).
+    const std::size_t m = indices_->size(), stride = std::max<std::size_t>(1, m / 256);
+    std::size_t seen = 0, found = 0;
+    pcl::Indices ind;
+    std::vector<float> d;
+    for (std::size_t k = 0; k < m; k += stride) {
+      const pcl::index_t index = (*indices_)[k];
+      if (!pcl::isFinite(cloud[static_cast<std::size_t>(index)]))
+        continue;
+      search_->radiusSearch(cloud, index, *par.radius, ind, d,
+                            static_cast<unsigned>(radius_cap + 1));
+      ++seen;
+      found += std::min(ind.size(), radius_cap);
+      over_budget = over_budget || (ind.size() > radius_cap &&
+                                    !(par.max_neighbors && radius_cap == std::size_t(*par.max_neighbors)));
+    }
+    if (over_budget || (seen > 0 && found / seen * m > kMaxEntries)) {
+      this->deinitCompute();
+      throw InvalidParameterError(detail::radiusTooLarge(*par.radius, radius_cap, m));
+    }
+  }
+
   output.clear();
   output.reserve(
       n, par.mode == NeighborhoodMode::radius ? n * 16 : n * static_cast<std::size_t>(k_query));
@@ -109,7 +156,7 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
       Eigen::Matrix3Xf local;
 #pragma omp for schedule(dynamic, 256)
       for (std::ptrdiff_t ii = static_cast<std::ptrdiff_t>(begin);
-           ii < static_cast<std::ptrdiff_t>(end); ++ii) {
+           ii < static_cast<std::ptrdiff_t>(end); ++ii) try {
         const auto i = static_cast<std::size_t>(ii);
         pcl::Indices& ind = chunk_indices[i - begin];
         std::vector<float>& d = chunk_dists[i - begin];
@@ -139,11 +186,21 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
             }
             break;
           }
-          case NeighborhoodMode::radius:
-            search_->radiusSearch(
-                cloud, index, *par.radius, ind, d,
-                par.max_neighbors ? static_cast<unsigned>(*par.max_neighbors) : 0u);
+          case NeighborhoodMode::radius: {
+            // One beyond the cap tells a full list from one that reached it (unless the cap is
+            // max_neighbors itself: then the nearest max_neighbors are what was asked for).
+            const bool capped_by_user = par.max_neighbors &&
+                                        radius_cap == static_cast<std::size_t>(*par.max_neighbors);
+            search_->radiusSearch(cloud, index, *par.radius, ind, d,
+                                  static_cast<unsigned>(radius_cap + (capped_by_user ? 0 : 1)));
+            if (!capped_by_user && ind.size() > radius_cap) {
+#pragma omp atomic write
+              over_budget = true;
+              ind.resize(radius_cap);
+              d.resize(radius_cap);
+            }
             break;
+          }
           case NeighborhoodMode::hybrid: {
             search_->nearestKSearch(cloud, index, par.k, ind, d);
             const auto cut = std::upper_bound(d.begin(), d.end(), r2) - d.begin();
@@ -162,7 +219,21 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
             break;
           }
         }
+      } catch (const std::exception& e) {
+        // No exception may leave an OpenMP region (std::terminate): the first is kept and thrown
+        // after it.
+#pragma omp critical(slipfit_neighborhood_failure)
+        if (failure.empty())
+          failure = e.what();
       }
+    }
+    if (!failure.empty()) {
+      this->deinitCompute();
+      throw DegenerateInputError("neighborhood selection: the search failed (" + failure + ")");
+    }
+    if (over_budget) {
+      this->deinitCompute();
+      throw InvalidParameterError(detail::radiusTooLarge(*par.radius, radius_cap, indices_->size()));
     }
     for (std::size_t i = begin; i < end; ++i)
       output.append(chunk_indices[i - begin].data(), chunk_dists[i - begin].data(),
