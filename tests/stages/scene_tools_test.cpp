@@ -113,11 +113,17 @@ TEST(Subsampling, RandomSampleRepresentsEveryPointNearby) {
   EXPECT_EQ(again.representative, s.representative);
 }
 
+// Eight points along x in three unit voxels: {0, 0.1, 0.9, 0.05}, {1.1, 1.2}, {2.5, 2.9}; the last
+// at height \a z (within its voxel for z < 1).
+Eigen::Matrix3Xf eightPoints(float z) {
+  Eigen::Matrix3Xf x = Eigen::Matrix3Xf::Zero(3, 8);
+  x.row(0) << 0.0f, 0.1f, 0.9f, 1.1f, 1.2f, 2.5f, 0.05f, 2.9f;
+  x(2, 7) = z;
+  return x;
+}
+
 TEST(Subsampling, VoxelSampleKeepsOnePointPerVoxel) {
-  Eigen::Matrix3Xf x(3, 8);
-  x << 0.0f, 0.1f, 0.9f, 1.1f, 1.2f, 2.5f, 0.05f, 2.9f,  //
-      0, 0, 0, 0, 0, 0, 0, 0,                            //
-      0, 0, 0, 0, 0, 0, 0, 0;
+  const Eigen::Matrix3Xf x = eightPoints(0.0f);
   const Subsample s = voxelSample(x, 1.0);
   EXPECT_EQ(s.kept, (std::vector<std::int32_t>{0, 3, 5}));
   EXPECT_EQ(s.representative, (std::vector<std::int32_t>{0, 0, 0, 1, 1, 2, 0, 2}));
@@ -125,10 +131,7 @@ TEST(Subsampling, VoxelSampleKeepsOnePointPerVoxel) {
 }
 
 TEST(Subsampling, RepresentedMeanIsTheCentroidOfEachVoxel) {
-  Eigen::Matrix3Xf x(3, 8);
-  x << 0.0f, 0.1f, 0.9f, 1.1f, 1.2f, 2.5f, 0.05f, 2.9f,  //
-      0, 0, 0, 0, 0, 0, 0, 0,                            //
-      0, 0, 0, 0, 0, 0, 0, 0.5f;
+  const Eigen::Matrix3Xf x = eightPoints(0.5f);
   const Subsample s = voxelSample(x, 1.0);
   const RepresentedMean mean = representedMean(x, s);
   EXPECT_EQ(mean.count, (std::vector<std::uint32_t>{4, 2, 2}));
