@@ -85,7 +85,8 @@ TEST(SegmentationCli, DemoFindsTheSceneAndWritesEveryOutput) {
 // The demo scene analysed on a third of its points (sample.points = 15000): at the voxels' means
 // (the default) and at their first points, the carry-back labels all 50,000. Measured mean IoU
 // 0.965 (mean) and 0.966 (first), 99.8 % and 99.9 % of the points assigned: the means' smaller
-// scatter does not shrink the input points' tolerance (the carry-back re-estimates it).
+// scatter does not shrink the input points' tolerance (the carry-back re-estimates it). 1 and 2
+// threads give the same bytes.
 TEST(SegmentationCli, SubsampleAtVoxelMeansOrFirstPointsCarriesBackEveryPoint) {
   for (const std::string position : {"mean", "first"}) {
     const std::string out = scratchDir("demo_sample_" + position);
@@ -103,6 +104,17 @@ TEST(SegmentationCli, SubsampleAtVoxelMeansOrFirstPointsCarriesBackEveryPoint) {
     EXPECT_GE(std::count_if(label.begin(), label.end(), [](std::int32_t l) { return l >= 0; }),
               49800);
   }
+  // The means and the carry-back's noise estimate do not depend on the thread count.
+  std::string outputs[2];
+  for (int threads = 1; threads <= 2; ++threads) {
+    const std::string out = scratchDir("demo_sample_threads" + std::to_string(threads));
+    const CliResult r = runSlipfit("run configs/demo.yaml --set sample.points=15000 --set threads=" +
+                                   std::to_string(threads) +
+                                   " --set 'segments.render=\"\"' --set output.dir=" + out);
+    ASSERT_EQ(r.code, 0) << r.err;
+    outputs[threads - 1] = slurp(out + "/segments.ply") + slurp(out + "/primitives.yaml");
+  }
+  EXPECT_TRUE(outputs[0] == outputs[1]) << "1 and 2 threads differ";
 }
 
 // Every step reports its time and its own peak memory per input point; the analysis fields
