@@ -139,25 +139,54 @@ int dispatch(const std::vector<std::string>& args, std::ostream& out) {
 
 }  // namespace
 
+namespace {
+
+/// The error line: control characters in the message (a newline inside a value, a tab, an escape
+/// sequence) are written as \n, \r, \t or \xHH, so that an error is always exactly one line and
+/// no value can start a line of its own that passes for another "slipfit: error:".
+std::string oneLine(const std::string& message) {
+  std::string line;
+  for (const char c : message) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\n')
+      line += "\\n";
+    else if (c == '\r')
+      line += "\\r";
+    else if (c == '\t')
+      line += "\\t";
+    else if (u < 0x20 || u == 0x7f) {
+      static const char* const kHex = "0123456789abcdef";
+      line += "\\x";
+      line += kHex[u >> 4];
+      line += kHex[u & 15];
+    } else {
+      line += c;
+    }
+  }
+  return line;
+}
+
+}  // namespace
+
 int runCommandLine(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
   // PCL's readers print their own diagnostics; slipfit reports one line of its own instead.
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   try {
     return dispatch(args, out);
   } catch (const ConfigError& e) {
-    err << "slipfit: error: " << e.what() << "\n";
+    err << "slipfit: error: " << oneLine(e.what()) << "\n";
     return kUsageError;
   } catch (const OptionValueError& e) {
-    err << "slipfit: error: " << e.what() << "\n";
+    err << "slipfit: error: " << oneLine(e.what()) << "\n";
     return kUsageError;
   } catch (const RunError& e) {
-    err << "slipfit: error: " << e.what() << "\n";
+    err << "slipfit: error: " << oneLine(e.what()) << "\n";
     return kRunFailure;
   } catch (const pcl::PCLException& e) {
-    err << "slipfit: error: " << e.what() << "\n";
+    err << "slipfit: error: " << oneLine(e.what()) << "\n";
     return kRunFailure;
   } catch (const std::exception& e) {
-    err << "slipfit: error: " << e.what() << "\n";
+    err << "slipfit: error: " << oneLine(e.what()) << "\n";
     return kRunFailure;
   }
 }
