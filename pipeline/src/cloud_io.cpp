@@ -276,7 +276,8 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   if (fs::is_directory(status))
     throw RunError(where + "is a directory, not a point cloud file");
   if (!fs::is_regular_file(status))
-    throw RunError(where + "not a regular file (a FIFO, socket or device would block or never end)");
+    throw RunError(where +
+                   "not a regular file (a FIFO, socket or device would block or never end)");
   const std::string ext = lowerExtension(path);
   if (ext != ".ply" && ext != ".pcd")
     throw RunError(where + "unsupported file type '" + ext + "' (expected .ply or .pcd)");

@@ -453,11 +453,12 @@ void SegmentationKernel::reviseTypes() {
         }
       }
     if (ring.size() < members.size())
-      continue;  // a wide region: its own points decide its type
+      continue;                             // a wide region: its own points decide its type
     std::vector<double> held(ring.size());  // each contested point's capped d² to its own
     for (std::size_t k = 0; k < ring.size(); ++k) {
       const double t = grower.tolerance(ring[k]);
-      const auto label = static_cast<std::size_t>(result_.labels[static_cast<std::size_t>(ring[k])]);
+      const auto label =
+          static_cast<std::size_t>(result_.labels[static_cast<std::size_t>(ring[k])]);
       held[k] = std::min(t * t, std::pow(distance(points_.col(ring[k]), fits_[label].refined), 2));
     }
     // The contested points' capped squared distances with the candidate, and how many it takes.

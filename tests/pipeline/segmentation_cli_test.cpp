@@ -90,9 +90,13 @@ TEST(SegmentationCli, DemoFindsTheSceneAndWritesEveryOutput) {
 TEST(SegmentationCli, SubsampleAtVoxelMeansOrFirstPointsCarriesBackEveryPoint) {
   for (const std::string position : {"mean", "first"}) {
     const std::string out = scratchDir("demo_sample_" + position);
-    const CliResult r = runSlipfit("run configs/demo.yaml --set sample.points=15000 --set "
-                                   "sample.position=" + position + " --set 'segments.render=\"\"' "
-                                   "--set output.dir=" + out);
+    const CliResult r = runSlipfit(
+        "run configs/demo.yaml --set sample.points=15000 --set "
+        "sample.position=" +
+        position +
+        " --set 'segments.render=\"\"' "
+        "--set output.dir=" +
+        out);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.out.find("at the mean of") != std::string::npos, position == "mean") << r.out;
     const auto cloud = pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
@@ -108,9 +112,9 @@ TEST(SegmentationCli, SubsampleAtVoxelMeansOrFirstPointsCarriesBackEveryPoint) {
   std::string outputs[2];
   for (int threads = 1; threads <= 2; ++threads) {
     const std::string out = scratchDir("demo_sample_threads" + std::to_string(threads));
-    const CliResult r = runSlipfit("run configs/demo.yaml --set sample.points=15000 --set threads=" +
-                                   std::to_string(threads) +
-                                   " --set 'segments.render=\"\"' --set output.dir=" + out);
+    const CliResult r = runSlipfit(
+        "run configs/demo.yaml --set sample.points=15000 --set threads=" + std::to_string(threads) +
+        " --set 'segments.render=\"\"' --set output.dir=" + out);
     ASSERT_EQ(r.code, 0) << r.err;
     outputs[threads - 1] = slurp(out + "/segments.ply") + slurp(out + "/primitives.yaml");
   }

@@ -6,8 +6,8 @@
 #include "slipfit/splat_renderer.h"
 #include "slipfit/subsampling.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>

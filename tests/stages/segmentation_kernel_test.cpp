@@ -41,6 +41,19 @@ Inputs prepare(const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud, int k) {
   return in;
 }
 
+/// The points of a sampled primitive as a cloud without normals.
+pcl::PointCloud<pcl::PointNormal>::Ptr sampledCloud(const PrimitiveSamplingParameters& sp) {
+  Eigen::Matrix3Xd p, nrm;
+  samplePrimitive(sp, p, nrm);
+  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  for (Eigen::Index i = 0; i < p.cols(); ++i) {
+    pcl::PointNormal q;
+    q.getVector3fMap() = p.col(i).cast<float>();
+    cloud->push_back(q);
+  }
+  return cloud;
+}
+
 std::size_t live(const SegmentationKernel& kernel) {
   std::size_t count = 0;
   for (const auto& r : kernel.regions())
@@ -96,14 +109,7 @@ TEST(SegmentationKernel, MergeJoinsTheBandsOfACone) {
   sp.extent = 2.0;
   sp.noise = 0.001;
   sp.seed = 3;
-  Eigen::Matrix3Xd p, nrm;
-  samplePrimitive(sp, p, nrm);
-  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-  for (Eigen::Index i = 0; i < p.cols(); ++i) {
-    pcl::PointNormal q;
-    q.getVector3fMap() = p.col(i).cast<float>();
-    cloud->push_back(q);
-  }
+  const auto cloud = sampledCloud(sp);
   const Inputs in = prepare(cloud, 12);
   SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
   kernel.estimateScale();
@@ -133,14 +139,7 @@ TEST(SegmentationKernel, NoiseFreeCurvedSurfaceHasNoNoise) {
   sp.points = 3000;
   sp.extent = 4.0;
   sp.seed = 9;
-  Eigen::Matrix3Xd p, nrm;
-  samplePrimitive(sp, p, nrm);
-  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-  for (Eigen::Index i = 0; i < p.cols(); ++i) {
-    pcl::PointNormal q;
-    q.getVector3fMap() = p.col(i).cast<float>();
-    cloud->push_back(q);
-  }
+  const auto cloud = sampledCloud(sp);
   const Inputs in = prepare(cloud, 12);
   SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
   kernel.estimateScale();

@@ -63,7 +63,7 @@ struct SegmentationResult {
   double tolerance(const Eigen::Vector3d& p) const {
     return distance + step_factor * lattice.stepAt(p);
   }
-  double noise = 0.0;             ///< the noise estimate σ̂ (units)
+  double noise = 0.0;  ///< the noise estimate σ̂ (units)
   /// distance = noise_factor · noise + a floor from the spacing; 0 when the distance was given.
   double noise_factor = 0.0;
   double max_angle = 0.0;         ///< the angle tolerance used, radians

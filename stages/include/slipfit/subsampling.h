@@ -31,8 +31,8 @@ Subsample voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::s
 /// points with independent noise σ has noise σ/√m: the analysis of a dense surface sees it with
 /// the noise of its density, not of one sample (see SegmentationKernel, `averaged`).
 struct RepresentedMean {
-  Eigen::Matrix3Xf mean;              ///< 3 × kept, in the order of `kept`
-  std::vector<std::uint32_t> count;   ///< input points per kept point (≥ 1)
+  Eigen::Matrix3Xf mean;             ///< 3 × kept, in the order of `kept`
+  std::vector<std::uint32_t> count;  ///< input points per kept point (≥ 1)
 };
 
 /// Means and counts of the points each kept point of \a sample represents (summed in double, in

@@ -127,8 +127,9 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
                             static_cast<unsigned>(radius_cap + 1));
       ++seen;
       found += std::min(ind.size(), radius_cap);
-      over_budget = over_budget || (ind.size() > radius_cap &&
-                                    !(par.max_neighbors && radius_cap == std::size_t(*par.max_neighbors)));
+      over_budget =
+          over_budget || (ind.size() > radius_cap &&
+                          !(par.max_neighbors && radius_cap == std::size_t(*par.max_neighbors)));
     }
     if (over_budget || (seen > 0 && found / seen * m > kMaxEntries)) {
       this->deinitCompute();
@@ -156,76 +157,77 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
       Eigen::Matrix3Xf local;
 #pragma omp for schedule(dynamic, 256)
       for (std::ptrdiff_t ii = static_cast<std::ptrdiff_t>(begin);
-           ii < static_cast<std::ptrdiff_t>(end); ++ii) try {
-        const auto i = static_cast<std::size_t>(ii);
-        pcl::Indices& ind = chunk_indices[i - begin];
-        std::vector<float>& d = chunk_dists[i - begin];
-        ind.clear();
-        d.clear();
-        if (!queried[i])
-          continue;
-        if (!pcl::isFinite(cloud[i])) {
-          ++skipped;
-          continue;
-        }
-        ++queries;
-        const auto index = static_cast<pcl::index_t>(i);
-        switch (par.mode) {
-          case NeighborhoodMode::knn: {
-            search_->nearestKSearch(cloud, index, par.k, ind, d);
-            if (!lattice.detected() || d.empty())
+           ii < static_cast<std::ptrdiff_t>(end); ++ii)
+        try {
+          const auto i = static_cast<std::size_t>(ii);
+          pcl::Indices& ind = chunk_indices[i - begin];
+          std::vector<float>& d = chunk_dists[i - begin];
+          ind.clear();
+          d.clear();
+          if (!queried[i])
+            continue;
+          if (!pcl::isFinite(cloud[i])) {
+            ++skipped;
+            continue;
+          }
+          ++queries;
+          const auto index = static_cast<pcl::index_t>(i);
+          switch (par.mode) {
+            case NeighborhoodMode::knn: {
+              search_->nearestKSearch(cloud, index, par.k, ind, d);
+              if (!lattice.detected() || d.empty())
+                break;
+              const double span =
+                  kSpanSteps * lattice.stepAt(static_cast<double>(cloud[i].data[lattice.axis]));
+              if (static_cast<double>(d.back()) < span * span) {
+                search_->radiusSearch(cloud, index, span, ind, d,
+                                      static_cast<unsigned>(kSearchCap * par.k));
+                thinWidened(ind, d, static_cast<std::size_t>(par.k),
+                            static_cast<std::size_t>(kWidenCap * par.k));
+                ++widened;
+              }
               break;
-            const double span =
-                kSpanSteps * lattice.stepAt(static_cast<double>(cloud[i].data[lattice.axis]));
-            if (static_cast<double>(d.back()) < span * span) {
-              search_->radiusSearch(cloud, index, span, ind, d,
-                                    static_cast<unsigned>(kSearchCap * par.k));
-              thinWidened(ind, d, static_cast<std::size_t>(par.k),
-                          static_cast<std::size_t>(kWidenCap * par.k));
-              ++widened;
             }
-            break;
-          }
-          case NeighborhoodMode::radius: {
-            // One beyond the cap tells a full list from one that reached it (unless the cap is
-            // max_neighbors itself: then the nearest max_neighbors are what was asked for).
-            const bool capped_by_user = par.max_neighbors &&
-                                        radius_cap == static_cast<std::size_t>(*par.max_neighbors);
-            search_->radiusSearch(cloud, index, *par.radius, ind, d,
-                                  static_cast<unsigned>(radius_cap + (capped_by_user ? 0 : 1)));
-            if (!capped_by_user && ind.size() > radius_cap) {
+            case NeighborhoodMode::radius: {
+              // One beyond the cap tells a full list from one that reached it (unless the cap is
+              // max_neighbors itself: then the nearest max_neighbors are what was asked for).
+              const bool capped_by_user =
+                  par.max_neighbors && radius_cap == static_cast<std::size_t>(*par.max_neighbors);
+              search_->radiusSearch(cloud, index, *par.radius, ind, d,
+                                    static_cast<unsigned>(radius_cap + (capped_by_user ? 0 : 1)));
+              if (!capped_by_user && ind.size() > radius_cap) {
 #pragma omp atomic write
-              over_budget = true;
-              ind.resize(radius_cap);
-              d.resize(radius_cap);
+                over_budget = true;
+                ind.resize(radius_cap);
+                d.resize(radius_cap);
+              }
+              break;
             }
-            break;
+            case NeighborhoodMode::hybrid: {
+              search_->nearestKSearch(cloud, index, par.k, ind, d);
+              const auto cut = std::upper_bound(d.begin(), d.end(), r2) - d.begin();
+              ind.resize(cut);
+              d.resize(cut);
+              break;
+            }
+            case NeighborhoodMode::adaptive: {
+              search_->nearestKSearch(cloud, index, par.k_max, ind, d);
+              local.resize(3, static_cast<Eigen::Index>(ind.size()));
+              for (std::size_t j = 0; j < ind.size(); ++j)
+                local.col(j) = cloud[ind[j]].getVector3fMap();
+              const int k = optimalNeighborhoodSize(local, par.k_min, par.k_max, par.k_step);
+              ind.resize(k);
+              d.resize(k);
+              break;
+            }
           }
-          case NeighborhoodMode::hybrid: {
-            search_->nearestKSearch(cloud, index, par.k, ind, d);
-            const auto cut = std::upper_bound(d.begin(), d.end(), r2) - d.begin();
-            ind.resize(cut);
-            d.resize(cut);
-            break;
-          }
-          case NeighborhoodMode::adaptive: {
-            search_->nearestKSearch(cloud, index, par.k_max, ind, d);
-            local.resize(3, static_cast<Eigen::Index>(ind.size()));
-            for (std::size_t j = 0; j < ind.size(); ++j)
-              local.col(j) = cloud[ind[j]].getVector3fMap();
-            const int k = optimalNeighborhoodSize(local, par.k_min, par.k_max, par.k_step);
-            ind.resize(k);
-            d.resize(k);
-            break;
-          }
-        }
-      } catch (const std::exception& e) {
-        // No exception may leave an OpenMP region (std::terminate): the first is kept and thrown
-        // after it.
+        } catch (const std::exception& e) {
+          // No exception may leave an OpenMP region (std::terminate): the first is kept and thrown
+          // after it.
 #pragma omp critical(slipfit_neighborhood_failure)
-        if (failure.empty())
-          failure = e.what();
-      }
+          if (failure.empty())
+            failure = e.what();
+        }
     }
     if (!failure.empty()) {
       this->deinitCompute();
@@ -233,7 +235,8 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
     }
     if (over_budget) {
       this->deinitCompute();
-      throw InvalidParameterError(detail::radiusTooLarge(*par.radius, radius_cap, indices_->size()));
+      throw InvalidParameterError(
+          detail::radiusTooLarge(*par.radius, radius_cap, indices_->size()));
     }
     for (std::size_t i = begin; i < end; ++i)
       output.append(chunk_indices[i - begin].data(), chunk_dists[i - begin].data(),
