@@ -84,7 +84,8 @@ TEST(SegmentationCli, DemoFindsTheSceneAndWritesEveryOutput) {
 
 // The demo scene analysed on a third of its points (sample.points = 15000): at the voxels' means
 // (the default) and at their first points, the carry-back labels all 50,000. Measured mean IoU
-// 0.965 (mean) and 0.966 (first), 99.8 % and 99.9 % of the points assigned: the means' smaller
+// 0.9653 (mean) and 0.9656 (first), asserted ≥ 0.965; 99.85 % and 99.94 % of the points
+// assigned, asserted ≥ 49,900 of 50,000 (99.8 %): the means' smaller
 // scatter does not shrink the input points' tolerance (the carry-back re-estimates it). 1 and 2
 // threads give the same bytes.
 TEST(SegmentationCli, SubsampleAtVoxelMeansOrFirstPointsCarriesBackEveryPoint) {
@@ -104,9 +105,9 @@ TEST(SegmentationCli, SubsampleAtVoxelMeansOrFirstPointsCarriesBackEveryPoint) {
     ASSERT_EQ(label.size(), 50000u);
     const SegmentationScore score = scoreSegmentation(intField(cloud, "truth_label"), label);
     std::cout << position << ": mean IoU " << score.mean_iou << "\n";
-    EXPECT_GE(score.mean_iou, 0.96) << position;
+    EXPECT_GE(score.mean_iou, 0.965) << position;
     EXPECT_GE(std::count_if(label.begin(), label.end(), [](std::int32_t l) { return l >= 0; }),
-              49800);
+              49900);
   }
   // The means and the carry-back's noise estimate do not depend on the thread count.
   std::string outputs[2];

@@ -147,8 +147,8 @@ TEST(Subsampling, RepresentedMeanIsTheCentroidOfEachVoxel) {
 // σ/√m (0.06 σ) for all: a voxel face that cuts the noise slab obliquely keeps one side's points
 // near it, and a voxel the plane only clips holds few of them, off by up to σ. Measured (seed 5):
 // median distance 0.27 σ, RMS 0.86 σ (0.19 σ and 0.58 σ with another frame in the plane; at σ a
-// fifth of the voxel the RMS is 1.4 σ: the gain is then only in the median). Asserted: median
-// below 0.35 σ, RMS below σ (the points' own).
+// fifth of the voxel the RMS is 1.4 σ: the gain is then only in the median). Asserted at the
+// measured figures (fixed seed: deterministic): median below 0.28 σ, RMS below 0.87 σ.
 TEST(Subsampling, VoxelMeansOfADenseNoisyPlaneLieCloserToItThanItsPoints) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -171,8 +171,8 @@ TEST(Subsampling, VoxelMeansOfADenseNoisyPlaneLieCloserToItThanItsPoints) {
   const double median = d[d.size() / 2], rms = std::sqrt(sum / double(d.size()));
   std::cout << "voxel means: median " << median / sigma << " sigma, rms " << rms / sigma
             << " sigma\n";
-  EXPECT_LT(median, 0.35 * sigma);
-  EXPECT_LT(rms, sigma);
+  EXPECT_LT(median, 0.28 * sigma);
+  EXPECT_LT(rms, 0.87 * sigma);
 }
 
 TEST(SplatRenderer, NearestSplatWinsAndColoursAreShaded) {

@@ -108,9 +108,9 @@ TEST(SegmentationCarryBack, EveryInputPointGetsItsPrimitivesSegment) {
 // less than the points, so the tolerance the sample gives understates an input point's. With
 // `averaged` the carry-back re-estimates the noise on the input points and keeps them. Measured:
 // the sample's σ̂ 0.38 σ (about 10 points a voxel), the re-estimate 0.998 σ; 96.4 % of the points
-// assigned without it, 99.99 % with it. Asserted: σ̂ below σ/2, the re-estimate within 5 % of σ
-// (the median of 10⁵ distances: ~0.4 % of sampling error, the fits' own error on top), at least
-// 99.73 % assigned with it (ε ≥ 3σ: a Gaussian's share within 3σ) and under 99 % without.
+// assigned without it, 99.99 % with it. Asserted at those figures (fixed seeds: deterministic):
+// σ̂ below 0.39 σ, the re-estimate within 1 % of σ (the median of 10⁵ distances has ~0.4 % of
+// sampling error), at least 99.98 % assigned with it and under 96.5 % without.
 TEST(SegmentationCarryBack, AveragedSampleTakesTheInputPointsNoise) {
   std::vector<int> truth;
   const pcl::PointCloud<pcl::PointNormal> full = planeAndSphere(truth);
@@ -135,12 +135,12 @@ TEST(SegmentationCarryBack, AveragedSampleTakesTheInputPointsNoise) {
             << "; assigned " << assigned(plain) << " plain, " << assigned(averaged)
             << " averaged of " << full.size() << "\n";
   const double sigma = 0.002;
-  EXPECT_LT(segmented.result.noise, 0.5 * sigma);
-  EXPECT_NEAR(averaged.noise, sigma, 0.05 * sigma);
+  EXPECT_LT(segmented.result.noise, 0.39 * sigma);
+  EXPECT_NEAR(averaged.noise, sigma, 0.01 * sigma);
   EXPECT_NEAR(averaged.distance - segmented.result.distance,
               3.0 * (averaged.noise - segmented.result.noise), 1e-12);
-  EXPECT_GE(static_cast<double>(assigned(averaged)), 0.9973 * static_cast<double>(full.size()));
-  EXPECT_LT(static_cast<double>(assigned(plain)), 0.99 * static_cast<double>(full.size()));
+  EXPECT_GE(static_cast<double>(assigned(averaged)), 0.9998 * static_cast<double>(full.size()));
+  EXPECT_LT(static_cast<double>(assigned(plain)), 0.965 * static_cast<double>(full.size()));
 }
 
 }  // namespace
