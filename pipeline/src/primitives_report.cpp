@@ -83,6 +83,25 @@ std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const st
         vec(e, "slippage_normal", *sl.normal);
       if (sl.pitch)
         e << YAML::Key << "pitch" << YAML::Value << *sl.pitch;
+      e << YAML::Key << "slippage_gap" << YAML::Value << sl.gap;
+      e << YAML::Key << "slippage_threshold" << YAML::Value << sl.threshold;
+      // The motion that slides the surface along itself, whatever the primitive (none for a
+      // general surface): the class, its axis and a point on it, and the screw's pitch.
+      if (sl.type != SlippageType::degenerate) {
+        e << YAML::Key << "kinematic" << YAML::Value << YAML::BeginMap;
+        e << YAML::Key << "class" << YAML::Value << std::string(slippageTypeName(sl.type));
+        if (sl.axis)
+          vec(e, "axis", *sl.axis);
+        else if (sl.normal)
+          vec(e, "normal", *sl.normal);
+        if (sl.point)
+          vec(e, "point", *sl.point);
+        else if (sl.center)
+          vec(e, "point", *sl.center);
+        if (sl.axis)
+          e << YAML::Key << "pitch" << YAML::Value << sl.pitch.value_or(0.0);
+        e << YAML::EndMap;
+      }
     }
     if (!r.fitted) {
     } else if (!r.fit.ok()) {

@@ -2,6 +2,8 @@
 
 #include "slipfit/exceptions.h"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <random>
 
@@ -16,8 +18,9 @@ void MotionSurfaceParameters::validate() const {
     throw InvalidParameterError("motion surface: radius must be > 0");
   if (!(length > 0.0 && std::isfinite(length)))
     throw InvalidParameterError("motion surface: length must be > 0");
-  if (surface == MotionSurface::helix && !(std::abs(pitch) > 0.0 && std::isfinite(pitch)))
-    throw InvalidParameterError("motion surface: a helix needs a non-zero pitch");
+  if ((surface == MotionSurface::helix || surface == MotionSurface::twisted_column) &&
+      !(std::abs(pitch) > 0.0 && std::isfinite(pitch)))
+    throw InvalidParameterError("motion surface: a helix or twisted column needs a non-zero pitch");
   if (points < 1)
     throw InvalidParameterError("motion surface: points must be at least 1");
   if (!(noise >= 0.0 && std::isfinite(noise)))
@@ -60,6 +63,28 @@ void sampleMotionSurface(const MotionSurfaceParameters& p, Eigen::Matrix3Xd& poi
         x = Eigen::Vector3d(r * std::cos(theta), r * std::sin(theta), p.pitch * theta);
         // ∂x/∂r × ∂x/∂θ = (cos θ, sin θ, 0) × (−r sin θ, r cos θ, h).
         nn = Eigen::Vector3d(p.pitch * std::sin(theta), -p.pitch * std::cos(theta), r).normalized();
+        break;
+      }
+      case MotionSurface::open_extrusion: {
+        const double u = p.radius * (2 * unit(rng) - 1), z = p.length * unit(rng);
+        const double k = 2 * kPi / p.radius, amplitude = 0.3 * p.radius;
+        x = Eigen::Vector3d(u, amplitude * std::sin(k * u), z);
+        nn = Eigen::Vector3d(-amplitude * k * std::cos(k * u), 1.0, 0.0).normalized();
+        break;
+      }
+      case MotionSurface::twisted_column: {
+        // The section (a cos φ, b sin φ) turned by θ = z / pitch: x = R(θ) s(φ) + z e_z, with
+        // ∂x/∂φ = R(θ) s'(φ) and ∂x/∂z = e_z × R(θ) s(φ) / pitch + e_z.
+        const double phi = 2 * kPi * unit(rng), z = p.length * unit(rng), theta = z / p.pitch;
+        const double a = p.radius, b = 0.5 * p.radius;
+        const Eigen::Vector3d section(a * std::cos(phi), b * std::sin(phi), 0.0);
+        const Eigen::Vector3d tangent(-a * std::sin(phi), b * std::cos(phi), 0.0);
+        const Eigen::Matrix3d turn =
+            Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        x = turn * section + z * Eigen::Vector3d::UnitZ();
+        const Eigen::Vector3d dz =
+            Eigen::Vector3d::UnitZ().cross(turn * section) / p.pitch + Eigen::Vector3d::UnitZ();
+        nn = (turn * tangent).cross(dz).normalized();
         break;
       }
     }

@@ -86,7 +86,7 @@ double energy(const NormalisedSet& set, const Motion& x) {
 /// the eigenvectors of nearly equal eigenvalues mix, and the rotational rank alone misreads them.
 bool slippable(const NormalisedSet& set, const SlippageResult& r, int k,
                std::initializer_list<Motion> motions, double* worst) {
-  const double bound = std::sqrt(std::max(r.spectrum(k - 1), 1e-6) * r.spectrum(k));
+  const double bound = std::sqrt(std::max(r.spectrum(k - 1), r.noise_floor) * r.spectrum(k));
   *worst = 0.0;
   for (const Motion& m : motions)
     *worst = std::max(*worst, energy(set, m));
@@ -311,13 +311,20 @@ SlippageResult classifyMotions(const NormalisedSet& set, const SlippageResult& b
 
 namespace {
 
-SlippageResult analyze(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
-                       const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
-                       const Eigen::Ref<const Eigen::VectorXd>& weights,
-                       const SlippageOptions& options) {
+/// λ_{k+1} / λ_k with both raised to the noise floor (k = 0: the gap below the first).
+double liftedGap(const Eigen::Matrix<double, 6, 1>& spectrum, int k, double floor) {
+  const double below = k > 0 ? spectrum(k - 1) : 0.0;
+  return k < 6 ? std::max(spectrum(k), floor) / std::max(below, floor) : 0.0;
+}
+
+/// Every reading that slips, the verdict first.
+std::vector<SlippageResult> analyze(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                    const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                    const Eigen::Ref<const Eigen::VectorXd>& weights,
+                                    const SlippageOptions& options) {
   const Eigen::Index n = points.cols();
   if (normals.cols() != n || weights.size() != n)
-    return degenerate("slippage: points, normals and weights differ in number");
+    return {degenerate("slippage: points, normals and weights differ in number")};
   // Normalise: centroid at the origin, unit RMS radius, unit normals.
   double w = 0.0;
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
@@ -327,15 +334,15 @@ SlippageResult analyze(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
       continue;
     if (!points.col(i).allFinite() || !normals.col(i).allFinite() ||
         normals.col(i).squaredNorm() == 0.0)
-      return degenerate("slippage: point " + std::to_string(i) +
-                        " has a non-finite coordinate or no normal");
+      return {degenerate("slippage: point " + std::to_string(i) +
+                         " has a non-finite coordinate or no normal")};
     w += weights[i];
     c += weights[i] * points.col(i);
     ++used;
   }
   if (used < 6)
-    return degenerate("slippage: " + std::to_string(used) +
-                      " points with positive weight, at least 6 needed");
+    return {degenerate("slippage: " + std::to_string(used) +
+                       " points with positive weight, at least 6 needed")};
   c /= w;
   double s2 = 0.0;
   for (Eigen::Index i = 0; i < n; ++i)
@@ -343,7 +350,7 @@ SlippageResult analyze(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
       s2 += weights[i] * (points.col(i) - c).squaredNorm();
   const double s = std::sqrt(s2 / w);
   if (!(s > 0.0))
-    return degenerate("slippage: all points coincide");
+    return {degenerate("slippage: all points coincide")};
   Eigen::Matrix3Xd p(3, used), nn(3, used);
   Eigen::VectorXd ww(used);
   for (Eigen::Index i = 0, j = 0; i < n; ++i)
@@ -357,47 +364,54 @@ SlippageResult analyze(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(matrix);
   const double lmax = eig.eigenvalues()(5);
   if (!(lmax > 0.0))
-    return degenerate("slippage: the matrix vanishes");
+    return {degenerate("slippage: the matrix vanishes")};
   SlippageResult r;
   r.scale = s;
+  r.threshold = options.threshold;
+  r.noise_floor = options.noise_floor;
   r.spectrum = eig.eigenvalues().cwiseMax(0.0) / lmax;
   // Candidate counts k: the eigenvalues below the threshold, ranked by the relative gap
   // λ_{k+1}/λ_k to the next one (noise lifts the near-zero eigenvalues together, and the gap to
-  // the first rigid direction stays; below 1e-6 eigenvalues are rounding, all alike). The count is
-  // the best-ranked one whose motions form a known family: on a small, nearly flat patch of a
+  // the first rigid direction stays). Both are raised to the noise floor (options.noise_floor)
+  // first: with exact normals a translation slips exactly (λ = 0) while position noise lifts the
+  // rotations a little, and an unlifted ratio λ₂/λ₁ would be infinite. The count is the
+  // best-ranked one whose motions form a known family: on a small, nearly flat patch of a
   // cylinder the third eigenvalue is small too, and "three motions" would fit nothing.
-  constexpr double kFloor = 1e-6;
   std::vector<std::pair<double, int>> candidates;
   for (int j = 1; j <= 5 && r.spectrum(j - 1) <= options.threshold; ++j)
-    candidates.emplace_back(std::max(r.spectrum(j), kFloor) / std::max(r.spectrum(j - 1), kFloor),
-                            j);
+    candidates.emplace_back(liftedGap(r.spectrum, j, options.noise_floor), j);
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const auto& x, const auto& y) { return x.first > y.first; });
   if (candidates.empty()) {
     r.type = SlippageType::none;
-    return r;
+    r.gap = liftedGap(r.spectrum, 0, options.noise_floor);
+    return {r};
   }
   const NormalisedSet set{p, nn, ww, c, s, matrix / lmax, eig.eigenvectors()};
   // Four or more motions as the clearest gap is a verdict (collinear or too few points); a
-  // weaker candidate with four or more is not a fallback.
-  SlippageResult first = classifyMotions(set, r, candidates.front().second, options);
-  if (first.type == SlippageType::degenerate && candidates.front().second >= 4)
-    return first;
+  // weaker candidate with four or more is not a fallback. (classifyShape still tries the
+  // primitives on such a set: a short band of a cylinder has four small eigenvalues.)
+  const int clearest = candidates.front().second;
+  SlippageResult first = classifyMotions(set, r, clearest, options);
+  first.gap = candidates.front().first;
+  if (first.type == SlippageType::degenerate && clearest >= 4)
+    return {first};
   std::vector<SlippageResult> readings;
   for (const auto& [gap, k] : candidates)
     if (k < 4) {
-      SlippageResult attempt =
-          k == candidates.front().second ? first : classifyMotions(set, r, k, options);
+      SlippageResult attempt = k == clearest ? first : classifyMotions(set, r, k, options);
+      attempt.gap = gap;
       if (attempt.type != SlippageType::degenerate)
         readings.push_back(std::move(attempt));
     }
   if (readings.empty())
-    return first;
+    return {first};
   // Several readings slip: a nearly flat patch of a cylinder also reads as a plane, with its third
   // eigenvalue above the noise yet below the threshold. The spectrum alone cannot tell; the
-  // distances of the points to each implied primitive can (BIC, as fitAuto).
+  // distances of the points to each implied primitive can (BIC, as fitAuto). The verdict goes
+  // first.
   if (!readings.front().primitive)
-    return readings.front();
+    return readings;
   std::size_t best = 0;
   double best_bic = bic(set, *readings.front().primitive);
   for (std::size_t j = 1; j < readings.size(); ++j)
@@ -408,7 +422,9 @@ SlippageResult analyze(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
         best = j;
       }
     }
-  return readings[best];
+  std::rotate(readings.begin(), readings.begin() + static_cast<std::ptrdiff_t>(best),
+              readings.begin() + static_cast<std::ptrdiff_t>(best) + 1);
+  return readings;
 }
 
 /// Every number a result reports is finite.
@@ -425,17 +441,25 @@ bool finiteResult(const SlippageResult& r) {
 
 }  // namespace
 
+std::vector<SlippageResult> slippageReadings(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                             const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                             const Eigen::Ref<const Eigen::VectorXd>& weights,
+                                             const SlippageOptions& options) {
+  std::vector<SlippageResult> readings = analyze(points, normals, weights, options);
+  // Finite inputs can still overflow (weights × coordinates near the double range; found by
+  // tests/fuzz): never hand out a NaN.
+  for (const SlippageResult& r : readings)
+    if (r.type != SlippageType::degenerate && !finiteResult(r))
+      return {degenerate(
+          "slippage: the result overflowed (coordinates or weights too large to normalise)")};
+  return readings;
+}
+
 SlippageResult analyzeSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                                const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
                                const Eigen::Ref<const Eigen::VectorXd>& weights,
                                const SlippageOptions& options) {
-  SlippageResult r = analyze(points, normals, weights, options);
-  // Finite inputs can still overflow (weights × coordinates near the double range; found by
-  // tests/fuzz): never hand out a NaN.
-  if (r.type != SlippageType::degenerate && !finiteResult(r))
-    return degenerate(
-        "slippage: the result overflowed (coordinates or weights too large to normalise)");
-  return r;
+  return slippageReadings(points, normals, weights, options).front();
 }
 
 }  // namespace slipfit

@@ -47,22 +47,34 @@ TEST(SlippageCli, WholeCloudVerdictsOfTheSampleClouds) {
 }
 
 TEST(SlippageCli, OneMotionSurfacesFromTheSurfaceSampler) {
-  for (const char* shape : {"helix", "revolution", "extrusion"}) {
+  const std::pair<const char*, const char*> cases[] = {{"helix", "helix"},
+                                                       {"revolution", "revolution"},
+                                                       {"extrusion", "extrusion"},
+                                                       {"open_extrusion", "extrusion"},
+                                                       {"twisted_column", "helix"}};
+  for (const auto& [shape, type] : cases) {
     const std::string out = scratchDir(std::string("one_motion_") + shape);
     const CliResult r =
         runSlipfit(std::string("run configs/classify_helix.yaml --set surface.shape=") + shape +
                    " --set output.dir=" + out);
     ASSERT_EQ(r.code, 0) << r.err;
     const YAML::Node p = YAML::LoadFile(out + "/primitives.yaml")["primitives"][0];
-    EXPECT_EQ(p["slippage_type"].as<std::string>(), shape);
-    EXPECT_EQ(p["slippable_motions"].as<int>(), 1);
-    const Eigen::Vector3d axis(p["slippage_axis"][0].as<double>(),
-                               p["slippage_axis"][1].as<double>(),
-                               p["slippage_axis"][2].as<double>());
+    EXPECT_EQ(p["slippage_type"].as<std::string>(), type) << shape;
+    EXPECT_EQ(p["slippable_motions"].as<int>(), 1) << shape;
+    // No primitive explains a one-motion surface: the answer is its kinematic class.
+    EXPECT_EQ(p["status"].as<std::string>(), "not_fitted") << shape;
+    const YAML::Node k = p["kinematic"];
+    ASSERT_TRUE(k.IsMap()) << shape;
+    EXPECT_EQ(k["class"].as<std::string>(), type) << shape;
+    const Eigen::Vector3d axis(k["axis"][0].as<double>(), k["axis"][1].as<double>(),
+                               k["axis"][2].as<double>());
     EXPECT_GT(std::abs(axis.dot(Eigen::Vector3d(1, 0, 1).normalized())),
-              std::cos(3.14159265358979323846 / 180));
-    if (std::string(shape) == "helix")
-      EXPECT_NEAR(std::abs(p["pitch"].as<double>()), 0.25, 0.0025);
+              std::cos(3.14159265358979323846 / 180))
+        << shape;
+    // The sampler's pitch is 0.25 per radian; a pure rotation or translation reports 0.
+    EXPECT_NEAR(std::abs(k["pitch"].as<double>()), std::string(type) == "helix" ? 0.25 : 0.0,
+                0.0025)
+        << shape;
   }
 }
 

@@ -141,15 +141,17 @@ TEST(Slippage, OneMotionSamplersAreClassifiedAsSuch) {
       Eigen::Matrix3Xd x, n;
       sampleMotionSurface(p, x, n);
       const SlippageResult r = analyzeSlippage(x, n, Eigen::VectorXd::Ones(x.cols()));
-      const SlippageType expected = surface == MotionSurface::revolution  ? SlippageType::revolution
-                                    : surface == MotionSurface::extrusion ? SlippageType::extrusion
-                                                                          : SlippageType::helix;
+      const bool extrusion =
+          surface == MotionSurface::extrusion || surface == MotionSurface::open_extrusion;
+      const SlippageType expected = surface == MotionSurface::revolution ? SlippageType::revolution
+                                    : extrusion                          ? SlippageType::extrusion
+                                                                         : SlippageType::helix;
       EXPECT_EQ(r.type, expected) << name << " noise " << noise << ": got "
                                   << slippageTypeName(r.type);
       EXPECT_EQ(r.motions, 1) << name;
       ASSERT_TRUE(r.axis) << name;
       EXPECT_LT(angleDeg(*r.axis, Eigen::Vector3d::UnitZ()), 1.0) << name;
-      if (surface == MotionSurface::helix)
+      if (expected == SlippageType::helix)
         EXPECT_NEAR(std::abs(*r.pitch), p.pitch, 0.01 * p.pitch);
     }
   }

@@ -4,6 +4,7 @@
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
+#include "slipfit/shape_classification.h"
 #include "slipfit/slippage.h"
 #include "slipfit/weighted_fit.h"
 
@@ -44,8 +45,8 @@ class SlippageStage : public Stage {
           "of the set is a plane.")
         .range(1, 1e9);
     o.add("fit", fit_,
-          "Whole mode: weighted fit (closed form and from the slippage guess, refined) of a plane, "
-          "sphere, cylinder or cone verdict.");
+          "Whole mode: report the refined fit of a primitive verdict (every type is fitted to "
+          "decide the verdict; see docs/THEORY.md §5.4).");
     o.add("report", report_, "Whole mode: file name of the YAML report in the output dir.");
   }
 
@@ -66,41 +67,32 @@ class SlippageStage : public Stage {
     }
     const Eigen::VectorXd w = Eigen::VectorXd::Ones(n);
     PrimitiveRecord record;
-    record.slippage = analyzeSlippage(x, nn, w, options_);
-    const SlippageResult& s = *record.slippage;
+    ShapeClassification c = classifyShape(x, nn, w, options_);
+    record.slippage = c.verdict;
+    const SlippageResult& s = c.verdict;
     context.report << "slippage: " << slippageTypeName(s.type) << ", " << s.motions
-                   << " motions, spectrum " << s.spectrum.transpose()
+                   << " motions, spectrum " << s.spectrum.transpose() << ", gap " << s.gap
+                   << ", threshold " << options_.threshold << ", surface noise " << c.noise
                    << (s.reason.empty() ? "" : " (" + s.reason + ")") << "\n";
-    const auto type = primitiveTypeOf(s.type);
-    record.fitted = fit_ && type.has_value();
+    if (c.spectral.type != s.type)
+      context.report << "  the spectrum alone reads " << slippageTypeName(c.spectral.type)
+                     << "; the fits decide\n";
+    for (const ShapeCandidate& k : c.candidates)
+      if (k.fitted)
+        context.report << "  " << primitiveTypeName(k.type) << ": rms " << k.rms
+                       << (k.explains ? " (explains the points)" : "") << ", motion energy "
+                       << k.energy << " (bound " << k.energy_bound << ")\n";
+    record.extra["surface_noise"] = std::to_string(c.noise);
+    record.fitted = fit_ && c.fit.has_value();
     if (record.fitted) {
-      record.fit = fitPrimitive(*type, x, nn, w);
-      if (s.primitive) {
-        // The slippage parameters as a second starting point; keep the better refined fit.
-        const Primitive from_slippage = refinePrimitive(*s.primitive, x, w, 100);
-        const double loss = weightedLoss(x, w, from_slippage);
-        if (!record.fit.ok() || loss < record.fit.loss_refined) {
-          record.fit.status = FitStatus::ok;
-          record.fit.reason.clear();
-          record.fit.type = *type;
-          record.fit.algebraic = record.fit.ok() ? record.fit.algebraic : *s.primitive;
-          record.fit.refined = from_slippage;
-          record.fit.loss_refined = loss;
-          record.fit.used_points = static_cast<std::size_t>(n);
-          record.fit.rms_distance = std::sqrt(loss / static_cast<double>(n));
-        }
-      }
-      if (record.fit.ok()) {
-        record.inlier_distance = 3.0 * record.fit.rms_distance;
-        record.fit.max_distance = 0.0;
-        for (Eigen::Index i = 0; i < n; ++i) {
-          const double d = distance(x.col(i), record.fit.refined);
-          record.fit.max_distance = std::max(record.fit.max_distance, d);
-          record.inliers += d <= record.inlier_distance ? 1 : 0;
-        }
-        context.report << "fit: " << primitiveTypeName(record.fit.type) << ", rms "
-                       << record.fit.rms_distance << "\n";
-      }
+      record.fit = std::move(*c.fit);
+      // Inliers are judged against the noise measured from the points, not against the fit's
+      // own RMS (which would call most points of any fit inliers).
+      record.inlier_distance = std::max(3.0 * c.noise, c.floor);
+      for (Eigen::Index i = 0; i < n; ++i)
+        record.inliers += distance(x.col(i), record.fit.refined) <= record.inlier_distance ? 1 : 0;
+      context.report << "fit: " << primitiveTypeName(record.fit.type) << ", rms "
+                     << record.fit.rms_distance << "\n";
     }
     if (!context.outputs)
       throw RunError("no output directory for the report");

@@ -1,7 +1,8 @@
 #pragma once
 /// \file Seeded samplers of surfaces with exactly one slippable motion, for slippage tests and
-/// users: a surface of revolution with a curved profile, a linear extrusion of a non-circular
-/// profile, and a helicoid (a helical surface). Points with exact unit normals.
+/// users: a surface of revolution with a curved profile, linear extrusions of a closed and of an
+/// open non-circular profile, a helicoid and a twisted column (helical surfaces). Points with
+/// exact unit normals.
 
 #include <Eigen/Core>
 
@@ -14,19 +15,27 @@ namespace slipfit {
 enum class MotionSurface {
   revolution,  ///< ρ(t) = radius (1 + 0.3 sin(2π t / length)) around z, t ∈ [0, length]: a vase
   extrusion,   ///< an ellipse with semi-axes radius and 0.5 radius swept along z over length
-  helix  ///< the helicoid (r cos θ, r sin θ, pitch θ), r ∈ [0.2, 1] radius, θ ∈ [0, length / pitch]
+  helix,  ///< the helicoid (r cos θ, r sin θ, pitch θ), r ∈ [0.2, 1] radius, θ ∈ [0, length /
+          ///< pitch]
+  /// the sheet y = 0.3 radius sin(2π x / radius), x ∈ [−radius, radius], swept along z over length
+  open_extrusion,
+  /// the ellipse of extrusion turned by z / pitch radians at height z ∈ [0, length]: a twisted
+  /// column, whose one motion is the screw (rotation about z, pitch per radian along it)
+  twisted_column
 };
-constexpr std::array<std::pair<MotionSurface, std::string_view>, 3> kMotionSurfaceNames{{
+constexpr std::array<std::pair<MotionSurface, std::string_view>, 5> kMotionSurfaceNames{{
     {MotionSurface::revolution, "revolution"},
     {MotionSurface::extrusion, "extrusion"},
     {MotionSurface::helix, "helix"},
+    {MotionSurface::open_extrusion, "open_extrusion"},
+    {MotionSurface::twisted_column, "twisted_column"},
 }};
 
 struct MotionSurfaceParameters {
   MotionSurface surface = MotionSurface::revolution;
   double radius = 1.0;  ///< > 0
   double length = 2.0;  ///< extent along the axis, > 0
-  double pitch = 0.3;   ///< helix: rise per radian, ≠ 0
+  double pitch = 0.3;   ///< helix, twisted column: rise per radian, ≠ 0
   std::size_t points = 5000;
   double noise = 0.0;  ///< σ of Gaussian position noise
   std::uint64_t seed = 1;

@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace slipfit {
 
@@ -56,6 +57,12 @@ struct SlippageOptions {
   double profile_tolerance = 0.05;
   /// |pitch| below this fraction of the RMS radius per radian counts as a pure rotation.
   double pitch_tolerance = 0.05;
+  /// Relative eigenvalue (of the normalised matrix) that noise gives a slippable motion at the
+  /// least; eigenvalues are raised to it before their ratios are taken, so that a motion that
+  /// slips exactly (λ = 0: a translation with exact normals) next to one that position noise
+  /// lifts (a rotation, λ ≈ (σ / RMS radius)²) is not an infinite gap. The default is rounding;
+  /// classifyShape (shape_classification.h) sets the position noise it measures.
+  double noise_floor = 1e-6;
   /// A three-motion set that fits both a plane and a sphere whose radius exceeds this many RMS
   /// radii of the point set is a plane (the sagitta is under 1 % of the patch).
   double flat_radius = 50.0;
@@ -78,6 +85,11 @@ struct SlippageResult {
   /// plane, sphere, cylinder or cone.
   std::optional<Primitive> primitive;
   double scale = 1.0;  ///< the RMS radius used to normalise
+  /// The margin of the count: λ_{k+1} / λ_k of the spectrum lifted by the noise floor (k = 0:
+  /// how far the smallest eigenvalue is above the floor).
+  double gap = 0.0;
+  double threshold = 0.0;    ///< SlippageOptions::threshold the count was made with
+  double noise_floor = 0.0;  ///< SlippageOptions::noise_floor the count was made with
 };
 
 /// The 6 × 6 slippage matrix of (already normalised) points and normals, weighted.
@@ -93,5 +105,13 @@ SlippageResult analyzeSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                                const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
                                const Eigen::Ref<const Eigen::VectorXd>& weights,
                                const SlippageOptions& options = {});
+
+/// Every reading of the spectrum whose ideal motions slip (one per candidate count, see
+/// SlippageOptions::threshold), the one analyzeSlippage reports first. A single degenerate or
+/// `none` result when nothing slips.
+std::vector<SlippageResult> slippageReadings(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                             const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                             const Eigen::Ref<const Eigen::VectorXd>& weights,
+                                             const SlippageOptions& options = {});
 
 }  // namespace slipfit
