@@ -1,12 +1,15 @@
 // Per-point slippage on 1,000,000 points with k = 20 shared neighborhoods, 2 threads, against
 // pcl::NormalEstimationOMP with the same k in the same run (a 3 × 3 problem per point where
 // slippage solves a 6 × 6 one): once on the same shared neighborhoods, once with PCL's own search.
-// Also whole-cloud classification at 10^4..10^6 points (linear in N).
+// Also the whole-cloud spectrum at 10^4..10^6 points (linear in N), and the whole-cloud verdict
+// (classifyShape: the spectrum, the surface noise and a refined fit of every type) at 10^4 and
+// 10^5 points.
 #include "shapes.h"
 
 #include "slipfit/local_slippage.h"
 #include "slipfit/neighborhood_selection.h"
 #include "slipfit/precomputed_search.h"
+#include "slipfit/shape_classification.h"
 #include "slipfit/slippage.h"
 
 #include <benchmark/benchmark.h>
@@ -100,6 +103,20 @@ void BM_WholeCloudSlippage(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * n);
 }
 
+void BM_WholeCloudClassification(benchmark::State& state) {
+  const auto n = state.range(0);
+  Eigen::Matrix3Xd x(3, n), nn(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto& p = (*scene())[static_cast<std::size_t>(750000 + i % 250000)];  // the cylinder
+    x.col(i) = p.getVector3fMap().cast<double>();
+    nn.col(i) = p.getNormalVector3fMap().cast<double>();
+  }
+  const Eigen::VectorXd w = Eigen::VectorXd::Ones(n);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(slipfit::classifyShape(x, nn, w).verdict.motions);
+  state.SetItemsProcessed(state.iterations() * n);
+}
+
 BENCHMARK(BM_PclNormalsOwnSearch)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_PclNormalsSharedNeighborhoods)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_LocalSlippage)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -108,6 +125,7 @@ BENCHMARK(BM_WholeCloudSlippage)
     ->Arg(100000)
     ->Arg(1000000)
     ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WholeCloudClassification)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

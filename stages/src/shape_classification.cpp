@@ -13,8 +13,8 @@
 namespace slipfit {
 
 namespace {
-/// Neighbours of the surface-noise estimate: enough to reach across the stripes of a line
-/// scanner (at 16 a neighbourhood on one stripe tilts with the noise and reads it 3 × low).
+/// Neighbours of the surface-noise estimate (chosen along the surface from 4 × as many): a
+/// standard deviation of 31 degrees of freedom per point, within a few spacings of it.
 constexpr int kNoiseNeighbors = 32;
 }  // namespace
 
@@ -137,19 +137,12 @@ bool collinear(const Eigen::Matrix3Xd& p, const Eigen::Vector3d& c) {
   return spread(1) <= 1e-12 * spread(2);
 }
 
+/// The slippage type of a primitive type (the inverse of primitiveTypeOf).
 SlippageType slippageTypeOf(PrimitiveType type) {
-  switch (type) {
-    case PrimitiveType::plane:
-      return SlippageType::plane;
-    case PrimitiveType::sphere:
-      return SlippageType::sphere;
-    case PrimitiveType::cylinder:
-      return SlippageType::cylinder;
-    case PrimitiveType::cone:
-      return SlippageType::cone;
-    default:
-      return SlippageType::torus;
-  }
+  for (const auto& [t, name] : kSlippageTypeNames)
+    if (primitiveTypeOf(t) == type)
+      return t;
+  return SlippageType::none;
 }
 
 }  // namespace
@@ -182,7 +175,7 @@ ShapeClassification classifyShape(const Eigen::Ref<const Eigen::Matrix3Xd>& poin
   const EnergyFrame frame = energyFrame(p, n, w);
   if (out.spectral.type == SlippageType::degenerate && collinear(p, frame.c))
     return out;
-  out.noise = estimateSurfaceNoise(p, kNoiseNeighbors);
+  out.noise = estimateSurfaceNoise(p, n, kNoiseNeighbors);
   // Distances below the rounding of the coordinates carry no information (as fitAuto).
   out.floor = 1e-7 * (frame.s + frame.c.norm());
   // The spectrum read again with its noise floor at the energy the measured position noise

@@ -7,17 +7,29 @@
 #include <pcl/point_types.h>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/QR>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace slipfit {
 
-double estimateSurfaceNoise(const Eigen::Ref<const Eigen::Matrix3Xd>& points, int k) {
-  if (k < 4 || k > 64)
-    throw InvalidParameterError("surface noise: k must be in [4, 64], got " + std::to_string(k));
+namespace {
+
+/// Candidates in space per neighbour kept along the surface: enough to choose from without the
+/// height bias, few enough that the ball stays on one layer of a tightly curved surface (at 4 a
+/// twisted column's 128-point ball reaches the opposite face, which projects onto the same
+/// tangent-plane spot, and σ̂ reads 50 × the noise).
+constexpr int kCandidates = 2;
+
+double estimate(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Eigen::Matrix3Xd* normals,
+                int k) {
+  if (k < 8 || k > 64)
+    throw InvalidParameterError("surface noise: k must be in [8, 64], got " + std::to_string(k));
   std::vector<Eigen::Index> finite;
   finite.reserve(static_cast<std::size_t>(points.cols()));
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
@@ -42,32 +54,82 @@ double estimateSurfaceNoise(const Eigen::Ref<const Eigen::Matrix3Xd>& points, in
   tree.setInputCloud(cloud);
   constexpr std::size_t kQueries = 2000;
   const std::size_t stride = (finite.size() + kQueries - 1) / kQueries;
+  const int m = std::min<int>(kCandidates * k, static_cast<int>(finite.size()));
   std::vector<int> found;
   std::vector<float> squared;
+  std::vector<std::pair<double, int>> tangential;
   std::vector<double> sigma;
   for (std::size_t q = 0; q < finite.size(); q += stride) {
-    if (tree.nearestKSearch((*cloud)[q], k, found, squared) < k)
+    if (tree.nearestKSearch((*cloud)[q], m, found, squared) < k)
       continue;
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const int j : found)
-      mean += points.col(finite[static_cast<std::size_t>(j)]);
-    mean /= k;
-    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-    for (const int j : found) {
-      const Eigen::Vector3d d = points.col(finite[static_cast<std::size_t>(j)]) - mean;
-      covariance += d * d.transpose();
+    const Eigen::Vector3d origin = points.col(finite[q]);
+    // The direction across the surface: the point's own normal, else the least-squares plane's
+    // normal of the m nearest points.
+    Eigen::Vector3d u = Eigen::Vector3d::Zero();
+    if (normals && normals->col(finite[q]).allFinite() && normals->col(finite[q]).norm() > 0.0) {
+      u = normals->col(finite[q]).normalized();
+    } else {
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (const int j : found)
+        mean += points.col(finite[static_cast<std::size_t>(j)]);
+      mean /= static_cast<double>(found.size());
+      Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+      for (const int j : found) {
+        const Eigen::Vector3d d = points.col(finite[static_cast<std::size_t>(j)]) - mean;
+        covariance += d * d.transpose();
+      }
+      u = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvectors().col(0);
     }
-    covariance /= k;
-    const double lambda0 = std::max(
-        0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance, Eigen::EigenvaluesOnly)
-                 .eigenvalues()(0));
-    sigma.push_back(std::sqrt(lambda0 * k / (k - 3.0)));
+    // The k nearest along the surface: a search in 3-D prefers the points whose noise put them
+    // at the query's own height, and would read the noise low where it is near the spacing.
+    tangential.clear();
+    for (const int j : found) {
+      const Eigen::Vector3d d = points.col(finite[static_cast<std::size_t>(j)]) - origin;
+      tangential.emplace_back((d - d.dot(u) * u).squaredNorm(), j);
+    }
+    std::partial_sort(tangential.begin(), tangential.begin() + k, tangential.end());
+    // The residual of the local quadric h = a s² + b st + c t² + d s + e t + f over the tangent
+    // coordinates (s, t) (scaled to unit RMS): the surface's curvature, the plane's tilt and its
+    // offset are the model, what is left is noise, with k − 6 degrees of freedom.
+    const Eigen::Vector3d e1 = u.unitOrthogonal(), e2 = u.cross(e1);
+    double spread = 0.0;
+    for (int j = 0; j < k; ++j)
+      spread += tangential[static_cast<std::size_t>(j)].first;
+    const double scale = std::sqrt(std::max(spread / k, std::numeric_limits<double>::min()));
+    Eigen::MatrixXd design(k, 6);
+    Eigen::VectorXd height(k);
+    for (int j = 0; j < k; ++j) {
+      const auto index = static_cast<std::size_t>(tangential[static_cast<std::size_t>(j)].second);
+      const Eigen::Vector3d d = points.col(finite[index]) - origin;
+      const double a = e1.dot(d) / scale, b = e2.dot(d) / scale;
+      design.row(j) << a * a, a * b, b * b, a, b, 1.0;
+      height[j] = u.dot(d);
+    }
+    const Eigen::VectorXd coefficients = design.colPivHouseholderQr().solve(height);
+    const double rss = (height - design * coefficients).squaredNorm();
+    if (std::isfinite(rss))
+      sigma.push_back(std::sqrt(rss / (k - 6.0)));
   }
   if (sigma.empty())
     return 0.0;
   auto middle = sigma.begin() + static_cast<std::ptrdiff_t>(sigma.size() / 2);
   std::nth_element(sigma.begin(), middle, sigma.end());
   return *middle;
+}
+
+}  // namespace
+
+double estimateSurfaceNoise(const Eigen::Ref<const Eigen::Matrix3Xd>& points, int k) {
+  return estimate(points, nullptr, k);
+}
+
+double estimateSurfaceNoise(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                            const Eigen::Ref<const Eigen::Matrix3Xd>& normals, int k) {
+  if (normals.cols() != points.cols())
+    throw InvalidParameterError("surface noise: " + std::to_string(normals.cols()) +
+                                " normals for " + std::to_string(points.cols()) + " points");
+  const Eigen::Matrix3Xd n = normals;
+  return estimate(points, &n, k);
 }
 
 }  // namespace slipfit

@@ -2,12 +2,15 @@
 // cylinder, cone) in random poses and scales, with noise, partial coverage and flipped normals:
 // the spectrum's own reading (analyzeSlippage, as each neighbourhood gets it) and the whole-cloud
 // verdict (classifyShape). Prints the confusion matrix of each.
-#include "slipfit/normal_estimation.h"
+#include "varied_shapes.h"
+
 #include "slipfit/primitive_sampler.h"
 #include "slipfit/shape_classification.h"
 #include "slipfit/slippage.h"
 
 #include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 
 #include <cstdlib>
 #include <iomanip>
@@ -79,25 +82,8 @@ int accuracy(int count, double noise, bool estimated_normals, bool whole, const 
   int right = 0;
   for (int i = 0; i < count; ++i) {
     Trial t = makeTrial(i, noise, rng);
-    if (estimated_normals) {
-      auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-      // Estimation happens in float: centre first, as any PCL user with far-off data must.
-      const Eigen::Vector3d c = t.x.rowwise().mean();
-      for (Eigen::Index j = 0; j < t.x.cols(); ++j) {
-        pcl::PointXYZ q;
-        q.getVector3fMap() = (t.x.col(j) - c).cast<float>();
-        cloud->push_back(q);
-      }
-      NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
-      NormalParameters np;
-      np.k = 24;
-      ne.setParameters(np);
-      ne.setInputCloud(cloud);
-      pcl::PointCloud<pcl::Normal> normals;
-      ne.compute(normals);
-      for (Eigen::Index j = 0; j < t.x.cols(); ++j)
-        t.n.col(j) = normals[j].getNormalVector3fMap().cast<double>();
-    }
+    if (estimated_normals)
+      testing::estimatePcaNormals(t.x, 24, t.n);
     const Eigen::VectorXd w = Eigen::VectorXd::Ones(t.x.cols());
     const SlippageResult r =
         whole ? classifyShape(t.x, t.n, w).verdict : analyzeSlippage(t.x, t.n, w);

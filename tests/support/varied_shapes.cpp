@@ -48,9 +48,9 @@ void thin(Sampling sampling, std::mt19937_64& rng, Eigen::Matrix3Xd& x, Eigen::M
   n.conservativeResize(3, kept);
 }
 
-/// PCA normals of the 30 nearest points, estimated in float on the centred cloud (as any PCL
-/// user with far-off data must).
-void estimateNormals(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& n) {
+}  // namespace
+
+void estimatePcaNormals(const Eigen::Matrix3Xd& x, int k, Eigen::Matrix3Xd& n) {
   auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
   const Eigen::Vector3d c = x.rowwise().mean();
   for (Eigen::Index j = 0; j < x.cols(); ++j) {
@@ -60,7 +60,7 @@ void estimateNormals(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& n) {
   }
   NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
   NormalParameters np;
-  np.k = 30;
+  np.k = k;
   np.threads = 1;
   ne.setParameters(np);
   ne.setInputCloud(cloud);
@@ -70,9 +70,11 @@ void estimateNormals(const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& n) {
     n.col(j) = normals[static_cast<std::size_t>(j)].getNormalVector3fMap().cast<double>();
 }
 
+namespace {
+
 void disturbNormals(const Disturbance& d, int index, std::mt19937_64& rng, VariedShape& s) {
   if (d.estimated_normals)
-    estimateNormals(s.points, s.normals);
+    estimatePcaNormals(s.points, 30, s.normals);
   if (d.flips && index % 2 == 0) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     for (Eigen::Index i = 0; i < s.normals.cols(); ++i)

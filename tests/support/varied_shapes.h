@@ -33,6 +33,10 @@ struct Disturbance {
   bool flips = true;               ///< half the normals of every other cloud flipped
 };
 
+/// PCA normals of the \a k nearest points of 3 × N points, estimated in float on the centred
+/// cloud (as any PCL user with far-off data must); \a n is resized to 3 × N.
+void estimatePcaNormals(const Eigen::Matrix3Xd& x, int k, Eigen::Matrix3Xd& n);
+
 /// Cloud \a index of the primitive family of \a seed: type index % 5 (plane, sphere, cylinder,
 /// cone, torus); size log-uniform in [1e-3, 1e3], every third cloud 1e3 sizes from the origin
 /// (where float coordinates, as the pipeline's, still resolve 1e-4 of the size); cylinder height /

@@ -22,8 +22,8 @@ namespace slipfit {
 
 /// A primitive explains the points when its RMS distance is at most this many times the
 /// measured surface noise (plus the rounding floor). For Gaussian noise σ the true surface's RMS
-/// is σ and the noise estimate's median σ̂ ≈ 0.95 σ; a missed systematic deviation δ raises the
-/// RMS to √(σ² + δ²/2), above 2 σ̂ once δ ≳ 2.4 σ.
+/// is σ and the noise estimate σ̂ ≈ 0.99 σ; a missed systematic deviation δ raises the RMS to
+/// √(σ² + δ²/2), above 2 σ̂ once δ ≳ 2.4 σ.
 constexpr double kExplainedNoiseRatio = 2.0;
 
 /// One primitive type tried on the whole set.
