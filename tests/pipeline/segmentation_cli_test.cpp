@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -202,6 +203,51 @@ TEST(SegmentationCli, NoSurfaceGivesAnEmptyReportAndSaysSo) {
   const std::vector<std::int32_t> labels = intField(segments, "label");
   EXPECT_EQ(labels.size(), 3000u);
   EXPECT_TRUE(std::all_of(labels.begin(), labels.end(), [](std::int32_t l) { return l == -1; }));
+}
+
+// A scene of 30 shapes: the terminal lists 20 segments and says how many more there are, and
+// every segment has its own colour in segments.ply (none the grey of unassigned points).
+TEST(SegmentationCli, ManySegmentsAreCountedAndColouredApart) {
+  const std::string out = scratchDir("many_segments");
+  const std::string config =
+      scratchFile("many_segments.yaml",
+                  "stages:\n"
+                  "  - {type: scene_sampling, layout: random, shapes: 30, points: 60000}\n"
+                  "  - {type: neighborhood_selection, k: 12}\n"
+                  "  - {type: normal_estimation}\n"
+                  "  - {type: slippage_classification, mode: local}\n"
+                  "  - {type: segmentation, tag: segments, render: \"\"}\n"
+                  "output: {dir: " +
+                      out + ", cloud: \"\"}\n");
+  const CliResult r = runSlipfit("run " + config);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const YAML::Node report = YAML::LoadFile(out + "/primitives.yaml")["primitives"];
+  ASSERT_GT(report.size(), 20u);
+  EXPECT_THAT(r.out, HasSubstr("  … and " + std::to_string(report.size() - 20) +
+                               " more segments (all in the outputs)"));
+  const pipeline::PointData segments =
+      pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
+  const std::vector<std::int32_t> labels = intField(segments, "label");
+  // PCL reads the PLY's red, green and blue into one packed rgb field.
+  const auto rgb = std::find_if(segments.extra.fields.begin(), segments.extra.fields.end(),
+                                [](const auto& f) { return f.name == "rgb" || f.name == "rgba"; });
+  ASSERT_NE(rgb, segments.extra.fields.end());
+  std::map<std::int32_t, std::int32_t> colour_of;  // label → packed colour
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, segments.extra.data.data() + i * segments.extra.point_step + rgb->offset,
+                sizeof(bits));
+    const auto packed = static_cast<std::int32_t>(bits & 0xffffffu);
+    if (labels[i] < 0)
+      continue;
+    EXPECT_NE(packed, 170 << 16 | 170 << 8 | 170);
+    const auto [it, fresh] = colour_of.emplace(labels[i], packed);
+    EXPECT_EQ(it->second, packed);  // one colour per segment
+  }
+  std::set<std::int32_t> distinct;
+  for (const auto& [label, packed] : colour_of)
+    distinct.insert(packed);
+  EXPECT_EQ(distinct.size(), colour_of.size());
 }
 
 }  // namespace

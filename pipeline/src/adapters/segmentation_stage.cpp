@@ -5,6 +5,7 @@
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
+#include "slipfit/segment_palette.h"
 #include "slipfit/segmentation.h"
 #include "slipfit/segmentation_carry_back.h"
 #include "slipfit/splat_renderer.h"
@@ -21,21 +22,6 @@ namespace slipfit::pipeline::adapters {
 namespace {
 
 constexpr double kDegree = 3.14159265358979323846 / 180.0;
-
-// Twelve well separated colours (segment k gets entry k mod 12); unassigned points are grey.
-constexpr std::array<std::array<std::uint8_t, 3>, 12> kPalette{{{31, 119, 180},
-                                                                {255, 127, 14},
-                                                                {44, 160, 44},
-                                                                {214, 39, 40},
-                                                                {148, 103, 189},
-                                                                {140, 86, 75},
-                                                                {227, 119, 194},
-                                                                {188, 189, 34},
-                                                                {23, 190, 207},
-                                                                {255, 187, 120},
-                                                                {152, 223, 138},
-                                                                {197, 176, 213}}};
-constexpr std::array<std::uint8_t, 3> kUnassigned{170, 170, 170};
 
 Eigen::Vector3d pointAt(const pcl::PointCloud<pcl::PointNormal>& cloud, int i) {
   return cloud[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();
@@ -117,7 +103,7 @@ class SegmentationStage : public Stage {
     std::vector<std::uint8_t> red(data.size()), green(data.size()), blue(data.size());
     for (std::size_t i = 0; i < data.size(); ++i) {
       const std::int32_t label = result.labels[i];
-      const auto& c = label < 0 ? kUnassigned : kPalette[static_cast<std::size_t>(label) % 12];
+      const Rgb c = label < 0 ? kUnassignedColour : segmentColour(static_cast<std::size_t>(label));
       red[i] = c[0];
       green[i] = c[1];
       blue[i] = c[2];
@@ -155,11 +141,15 @@ class SegmentationStage : public Stage {
                      << "xyz"[result.lattice.axis] << " is recorded on levels up to "
                      << result.lattice.maxStep()
                      << " apart: each point's tolerance adds its local step\n";
-    for (std::size_t k = 0; k < result.segments.size() && k < 20; ++k) {
+    constexpr std::size_t kListed = 20;
+    for (std::size_t k = 0; k < result.segments.size() && k < kListed; ++k) {
       const Segment& s = result.segments[k];
       context.report << "  segment " << k << ": " << primitiveTypeName(s.fit.type) << ", "
                      << s.indices.size() << " points, rms " << s.rms_distance << "\n";
     }
+    if (result.segments.size() > kListed)
+      context.report << "  … and " << result.segments.size() - kListed
+                     << " more segments (all in the outputs)\n";
   }
 
  private:
