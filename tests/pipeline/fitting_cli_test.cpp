@@ -126,6 +126,35 @@ TEST(FittingCli, RobustConfigIgnoresOutliers) {
   EXPECT_EQ(slurp(out + "/cloud.ply"), slurp(again + "/cloud.ply"));
 }
 
+// Inliers are counted within 3 σ̂ of the noise measured from the points, not 3 × the fit's own
+// RMS: a plane forced onto the sample sphere (a 120° cap of R = 0.8, σ = 0.004) keeps only the
+// band of it within 3 σ̂ ≈ 0.012 — a band of a sphere has area 2πR × width, the cap 2πR² × 1.5:
+// 0.024 / 1.2 = 2 % of the points (measured 106 of 5000) — where the old rule (3 × RMS 0.35)
+// called nearly every point an inlier; the sphere itself keeps the 99.7 % of a Gaussian within
+// 3 σ.
+TEST(FittingCli, InliersAreCountedAgainstTheMeasuredNoise) {
+  const std::string out = scratchDir("forced_plane");
+  const CliResult r = runSlipfit(
+      "run configs/fit_primitive.yaml --set input.path=sample_clouds/sphere.ply "
+      "--set fit.primitive=plane --set output.dir=" +
+      out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("(3 x the surface noise measured from the points)"));
+  const YAML::Node p = YAML::LoadFile(out + "/primitives.yaml")["primitives"][0];
+  EXPECT_EQ(p["type"].as<std::string>(), "plane");
+  EXPECT_NEAR(p["inlier_distance"].as<double>(), 3 * 0.004, 0.1 * 3 * 0.004);
+  EXPECT_LT(p["inliers"].as<int>(), 0.03 * 5000);
+  const std::string own = scratchDir("own_sphere");
+  ASSERT_EQ(runSlipfit("run configs/fit_primitive.yaml --set input.path=sample_clouds/sphere.ply "
+                       "--set output.dir=" +
+                       own)
+                .code,
+            0);
+  const YAML::Node q = YAML::LoadFile(own + "/primitives.yaml")["primitives"][0];
+  EXPECT_EQ(q["type"].as<std::string>(), "sphere");
+  EXPECT_GT(q["inliers"].as<int>(), 0.99 * 5000);
+}
+
 TEST(FittingCli, BadFieldsAndDegenerateClouds) {
   CliResult r = runSlipfit(
       "run configs/fit_primitive.yaml --set fit.labels=nope --set output.dir=" + scratchDir("e1"));

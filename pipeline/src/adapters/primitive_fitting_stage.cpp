@@ -4,8 +4,10 @@
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
 #include "slipfit/robust_fit.h"
+#include "slipfit/surface_noise.h"
 #include "slipfit/weighted_fit.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -39,7 +41,9 @@ class PrimitiveFittingStage : public Stage {
     o.add("max_iterations", options_.max_iterations, "Refinement iterations at most.")
         .range(1, 10000);
     o.add("inlier_distance", inlier_distance_,
-          "Points within this distance count as inliers (unset: 3 × each fit's RMS distance).")
+          "Points within this distance count as inliers (unset: a robust fit's own threshold, "
+          "else 3 × the surface noise measured from each fit's points, surface_noise.h; never "
+          "the fit's own RMS, which would call most points of any fit inliers).")
         .unit("units")
         .above(0);
     o.add("min_points", min_points_, "Labels with fewer points are reported, not fitted.")
@@ -121,7 +125,7 @@ class PrimitiveFittingStage : public Stage {
       if (!record.fit.ok() && label < 0)
         throw RunError(record.fit.reason);
       if (record.fit.ok()) {
-        record.inlier_distance = inlier_distance_.value_or(3.0 * record.fit.rms_distance);
+        record.inlier_distance = inlierDistance(points, normals, record);
         for (Eigen::Index j = 0; j < m; ++j) {
           const double d = distance(points.col(j), record.fit.refined);
           fit_distance[members[static_cast<std::size_t>(j)]] = static_cast<float>(d);
@@ -146,7 +150,8 @@ class PrimitiveFittingStage : public Stage {
         continue;
       }
       context.report << primitiveTypeName(r.fit.type) << ", rms " << r.fit.rms_distance << ", "
-                     << r.inliers << "/" << r.fit.used_points << " inliers, loss "
+                     << r.inliers << "/" << r.fit.used_points << " inliers within "
+                     << r.inlier_distance << " (" << r.extra.at("inlier_tolerance") << "), loss "
                      << r.fit.loss_algebraic << " -> " << r.fit.loss_refined << "\n";
     }
     if (!context.outputs)
@@ -155,6 +160,36 @@ class PrimitiveFittingStage : public Stage {
   }
 
  private:
+  /// The configured inlier distance, else the robust fit's threshold, else 3 σ̂ of the points
+  /// (the tolerance is written to the report with where it came from).
+  double inlierDistance(const Eigen::Matrix3Xd& points, const Eigen::Matrix3Xd& normals,
+                        PrimitiveRecord& record) const {
+    if (inlier_distance_) {
+      record.extra["inlier_tolerance"] = "set in the config";
+      return *inlier_distance_;
+    }
+    if (robust_.method != RobustMethod::none && record.inlier_distance > 0.0) {
+      // Outliers inflate any scale measured on all the points; the robust fit's own threshold
+      // was set on the residuals of its consensus.
+      record.extra["inlier_tolerance"] = robust_.threshold
+                                             ? "robust_threshold, set in the config"
+                                             : "2.5 x the robust fit's residual scale";
+      return record.inlier_distance;
+    }
+    constexpr int kNeighbors = 32, kFewest = 8;
+    const int k = static_cast<int>(std::min<Eigen::Index>(kNeighbors, points.cols() - 1));
+    if (k < kFewest) {
+      record.extra["inlier_tolerance"] =
+          "3 x the fit's RMS distance (fewer than 9 points: no noise estimate)";
+      return 3.0 * record.fit.rms_distance;
+    }
+    const double noise = normals.cols() == points.cols() ? estimateSurfaceNoise(points, normals, k)
+                                                         : estimateSurfaceNoise(points, k);
+    record.extra["inlier_tolerance"] = "3 x the surface noise measured from the points";
+    record.extra["surface_noise"] = std::to_string(noise);
+    return 3.0 * noise;
+  }
+
   PrimitiveType fixedType() const {
     return static_cast<PrimitiveType>(static_cast<int>(type_) - 1);
   }
