@@ -143,7 +143,7 @@ TEST(FittingCli, InliersAreCountedAgainstTheMeasuredNoise) {
   const YAML::Node p = YAML::LoadFile(out + "/primitives.yaml")["primitives"][0];
   EXPECT_EQ(p["type"].as<std::string>(), "plane");
   EXPECT_NEAR(p["inlier_distance"].as<double>(), 3 * 0.004, 0.1 * 3 * 0.004);
-  EXPECT_LT(p["inliers"].as<int>(), 0.03 * 5000);
+  EXPECT_LE(p["inliers"].as<int>(), 106);  // measured, deterministic
   const std::string own = scratchDir("own_sphere");
   ASSERT_EQ(runSlipfit("run configs/fit_primitive.yaml --set input.path=sample_clouds/sphere.ply "
                        "--set output.dir=" +
