@@ -31,6 +31,7 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
   kernel.reviseTypes();
   kernel.refineBoundaries();
   kernel.joinCreases();
+  kernel.recoverSmallFaces();
   kernel.dropNonSurfaces();
   return kernel.finalize();
 }

@@ -28,6 +28,10 @@ constexpr double kStepFactor = 2.0;
 constexpr std::size_t kDefaultMinPoints = 20;
 // Between a surface's RMS distance (≈ 0.33 ε) and that of a slab filled at random (0.58 ε).
 constexpr double kVolumeRatio = 0.45;
+// recoverSmallFaces: the fewest free points tried as a face (a plane needs 3, and 3 per parameter
+// must hold), and the share of them its fit must hold.
+constexpr std::size_t kSmallestPatch = 8;
+constexpr double kHeld = 0.8;
 
 double quantile(std::vector<double> v, double q) {
   if (v.empty())
@@ -161,6 +165,51 @@ double rmsOf(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const std::vector
   return members.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(members.size()));
 }
 
+/// Each point of \a set gets in \a own the normal of its neighbors within the set (itself and at
+/// least three others, \a known set; else the cloud's normal, \a known cleared): at a face a few
+/// rows wide every neighborhood straddles its edges, and normals estimated over them lead the
+/// closed forms astray (a hole's wall fitted as a cylinder from such normals left an RMS of a fifth
+/// of its radius).
+void estimateOwnNormals(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                        const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                        const Neighborhoods& hoods, const std::vector<int>& set,
+                        std::vector<std::uint32_t>& stamp, std::uint32_t generation,
+                        Eigen::Matrix3Xd& own, std::vector<char>& known) {
+  for (int i : set)
+    stamp[static_cast<std::size_t>(i)] = generation;
+  for (int i : set) {
+    Eigen::Vector3d mean = points.col(i);
+    Eigen::Matrix3d second = points.col(i) * points.col(i).transpose();
+    int count = 1;
+    for (pcl::index_t j : hoods[static_cast<std::size_t>(i)])
+      if (j != i && stamp[static_cast<std::size_t>(j)] == generation) {
+        mean += points.col(j);
+        second += points.col(j) * points.col(j).transpose();
+        ++count;
+      }
+    own.col(i) = normals.col(i);
+    known[static_cast<std::size_t>(i)] = count >= 4;
+    if (count < 4)
+      continue;
+    mean /= count;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(second / count -
+                                                               mean * mean.transpose());
+    own.col(i) = eigen.eigenvectors().col(0);
+  }
+}
+
+/// The simplest adequate primitive of the points \a set with the normals \a own (an evenly
+/// strided RegionGrower::kTypeSubset of them decide, as in RegionGrower::fitBest).
+FitResult fitSet(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Eigen::Matrix3Xd& own,
+                 const std::vector<int>& set) {
+  const std::size_t stride = std::max<std::size_t>(1, set.size() / RegionGrower::kTypeSubset);
+  std::vector<int> subset;
+  for (std::size_t k = 0; k < set.size(); k += stride)
+    subset.push_back(set[k]);
+  return fitAuto(points(Eigen::all, subset), own(Eigen::all, subset),
+                 Eigen::VectorXd::Ones(static_cast<Eigen::Index>(subset.size())));
+}
+
 }  // namespace
 
 SegmentationKernel::SegmentationKernel(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
@@ -257,6 +306,11 @@ void SegmentationKernel::growRegion(PrimitiveType type, std::vector<int> members
     tried_[static_cast<std::size_t>(i)] = 1;
   if (members.size() < result_.min_points)
     return;
+  addRegion(std::move(members), std::move(fit), seed_type);
+}
+
+void SegmentationKernel::addRegion(std::vector<int> members, FitResult fit,
+                                   SlippageType seed_type) {
   const auto label = static_cast<std::int32_t>(regions_.size());
   for (int i : members)
     result_.labels[static_cast<std::size_t>(i)] = label;
@@ -649,6 +703,155 @@ void SegmentationKernel::joinCreases() {
   }
 }
 
+void SegmentationKernel::recoverSmallFaces() {
+  // Free points left after the crease pass are within tolerance of no adjacent primitive. A
+  // connected patch of them is a face too small to have seeded (the wall of a hole two rows of
+  // points deep, a narrow fillet: every neighborhood there straddles an edge), and its edge rows
+  // were taken by the faces around it. The patch is fitted with the simplest adequate type; the
+  // edge points it explains as well as their own primitive (a tie within s/20, see shareEdges)
+  // join it, and the type is chosen again with them (two rows of a hole lie on a sphere too, four
+  // do not). The patch becomes a region when the fit holds most of its own points and three per
+  // parameter, and with its edges it reaches min_points. A patch that no one primitive explains
+  // (a row of narrow faces, each too small to seed) is tried face by face: from each of its
+  // points in turn, the free points of its two rings grown over the patch by their fit.
+  RegionGrower& grower = *grower_;
+  std::vector<char> seen(n_, 0), used(n_, 0);
+  std::vector<std::uint32_t> stamp(n_, 0);
+  std::uint32_t generation = 0;
+  bool recovered = false;
+  Eigen::Matrix3Xd own(3, static_cast<Eigen::Index>(n_));  // normals within a face: see below
+  std::vector<char> known(n_, 0);
+  const double cos_angle = std::cos(result_.max_angle);
+  // The free points among the neighbors of free point i and among those of its labelled
+  // neighbors: a wall whose free rows are cut by the edge rows the faces took stays one patch.
+  const auto forEachFreeNear = [&](int i, const auto& visit) {
+    for (pcl::index_t j : hoods_[static_cast<std::size_t>(i)]) {
+      if (result_.labels[static_cast<std::size_t>(j)] < 0) {
+        visit(j);
+        continue;
+      }
+      for (pcl::index_t l : hoods_[static_cast<std::size_t>(j)])
+        if (result_.labels[static_cast<std::size_t>(l)] < 0)
+          visit(l);
+    }
+  };
+  // Tries the free points \a face as one region; true when it becomes one.
+  const auto tryFace = [&](const std::vector<int>& face, SlippageType seed_type,
+                           bool check_normals) {
+    if (face.size() < kSmallestPatch)
+      return false;
+    ++generation;
+    std::vector<int> rim;  // labelled neighbours of the face
+    for (int i : face)
+      for (pcl::index_t j : hoods_[static_cast<std::size_t>(i)]) {
+        const auto uj = static_cast<std::size_t>(j);
+        if (result_.labels[uj] >= 0 && stamp[uj] != generation) {
+          stamp[uj] = generation;
+          rim.push_back(j);
+        }
+      }
+    std::sort(rim.begin(), rim.end());
+    estimateOwnNormals(points_, normals_, hoods_, face, stamp, ++generation, own, known);
+    FitResult fit = fitSet(points_, own, face);
+    std::vector<int> members, edges;
+    for (int round = 0; round < 2 && fit.ok(); ++round) {
+      members.clear();
+      for (int i : face)
+        if (grower.near(i, fit.refined) &&
+            (!check_normals || !known[static_cast<std::size_t>(i)] ||
+             std::abs(surfaceNormal(points_.col(i), fit.refined).dot(own.col(i))) >= cos_angle))
+          members.push_back(i);
+      edges.clear();
+      for (int j : rim) {
+        const double d = distance(points_.col(j), fit.refined);
+        const auto own = static_cast<std::size_t>(result_.labels[static_cast<std::size_t>(j)]);
+        if (d <= grower.tolerance(j) &&
+            d <= distance(points_.col(j), fits_[own].refined) + edge_margin_)
+          edges.push_back(j);
+      }
+      if (round == 1)
+        break;
+      std::vector<int> all = members;
+      all.insert(all.end(), edges.begin(), edges.end());
+      estimateOwnNormals(points_, normals_, hoods_, all, stamp, ++generation, own, known);
+      FitResult refit = fitSet(points_, own, all);
+      if (!refit.ok())
+        break;
+      fit = std::move(refit);
+    }
+    if (!fit.ok() ||
+        static_cast<double>(members.size()) < kHeld * static_cast<double>(face.size()) ||
+        members.size() < 3 * static_cast<std::size_t>(parameterCount(fit.type)) ||
+        members.size() + edges.size() < result_.min_points)
+      return false;
+    members.insert(members.end(), edges.begin(), edges.end());
+    addRegion(std::move(members), std::move(fit), seed_type);
+    recovered = true;
+    return true;
+  };
+  for (std::size_t s = 0; s < n_; ++s) {
+    if (result_.labels[s] >= 0 || seen[s])
+      continue;
+    std::vector<int> patch{static_cast<int>(s)};
+    seen[s] = 1;
+    for (std::size_t head = 0; head < patch.size(); ++head)
+      forEachFreeNear(patch[head], [&](int j) {
+        if (!seen[static_cast<std::size_t>(j)]) {
+          seen[static_cast<std::size_t>(j)] = 1;
+          patch.push_back(j);
+        }
+      });
+    if (patch.size() < kSmallestPatch || tryFace(patch, local_types_[s], false))
+      continue;
+    for (int seed : patch) {
+      const auto us = static_cast<std::size_t>(seed);
+      if (result_.labels[us] >= 0 || used[us])
+        continue;
+      // The free points of the seed's two rings, grown over the patch by their fit.
+      ++generation;
+      std::vector<int> face{seed};
+      stamp[us] = generation;
+      for (std::size_t head = 0; head < face.size() && head < 1 + hoods_[us].size(); ++head)
+        forEachFreeNear(face[head], [&](int j) {
+          const auto uj = static_cast<std::size_t>(j);
+          if (seen[uj] && stamp[uj] != generation) {
+            stamp[uj] = generation;
+            face.push_back(j);
+          }
+        });
+      // Each point seeds once, and the two rings of a seed that no primitive fits seed no more.
+      used[us] = 1;
+      if (face.size() < kSmallestPatch)
+        continue;
+      const FitResult fit = grower.fitBest(face);
+      if (!fit.ok()) {
+        for (int i : face)
+          used[static_cast<std::size_t>(i)] = 1;
+        continue;
+      }
+      face.erase(std::remove_if(face.begin(), face.end(),
+                                [&](int i) { return !grower.near(i, fit.refined); }),
+                 face.end());
+      ++generation;
+      for (int i : face)
+        stamp[static_cast<std::size_t>(i)] = generation;
+      for (std::size_t head = 0; head < face.size(); ++head)
+        forEachFreeNear(face[head], [&](int j) {
+          const auto uj = static_cast<std::size_t>(j);
+          if (seen[uj] && stamp[uj] != generation && grower.near(j, fit.refined)) {
+            stamp[uj] = generation;
+            face.push_back(j);
+          }
+        });
+      for (int i : face)
+        used[static_cast<std::size_t>(i)] = 1;
+      tryFace(face, local_types_[us], true);
+    }
+  }
+  if (recovered)
+    relabelFromRegions();
+}
+
 void SegmentationKernel::dropNonSurfaces() {
   // A surface, not a volume: points spread uniformly through the slab |D| ≤ ε have an RMS
   // distance of ε/√3 ≈ 0.58 ε; a surface with Gaussian noise (ε = 3σ) about 0.33 ε, quantized
@@ -694,9 +897,12 @@ SegmentationResult SegmentationKernel::finalize() {
     Segment s;
     s.indices = std::move(regions_[order[k]]);
     std::sort(s.indices.begin(), s.indices.end());
-    // Refit on the final members (crease points joined after the last fit).
+    // Refit on the final members (crease points joined after the last fit), kept when it is no
+    // worse than the region's fit: a face recovered with its own normals (recoverSmallFaces) is
+    // refitted here from the cloud's, which straddle its edges.
     s.fit = grower.fit(fits_[order[k]].type, s.indices, true);
-    if (!s.fit.ok())
+    if (!s.fit.ok() || rmsOf(points_, s.indices, s.fit.refined, nullptr) >
+                           rmsOf(points_, s.indices, fits_[order[k]].refined, nullptr))
       s.fit = std::move(fits_[order[k]]);
     s.seed_type = seed_types_[order[k]];
     refineFromSlippage(points_, normals_, s);

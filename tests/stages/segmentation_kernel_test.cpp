@@ -8,7 +8,9 @@
 #include <gtest/gtest.h>
 #include <pcl/point_types.h>
 
+#include <array>
 #include <random>
+#include <string>
 
 namespace slipfit {
 namespace {
@@ -85,6 +87,7 @@ TEST(SegmentationKernel, RegionsGrownInRandomPointsAreDroppedAsVolumes) {
   kernel.mergeRegions();
   kernel.refineBoundaries();
   kernel.joinCreases();
+  kernel.recoverSmallFaces();
   const std::size_t grown = live(kernel);
   EXPECT_GT(grown, 0u) << "random points always lie near some small primitive";
   kernel.dropNonSurfaces();
@@ -121,6 +124,7 @@ TEST(SegmentationKernel, MergeJoinsTheBandsOfACone) {
   EXPECT_EQ(live(kernel), 1u);
   kernel.refineBoundaries();
   kernel.joinCreases();
+  kernel.recoverSmallFaces();
   kernel.dropNonSurfaces();
   const SegmentationResult r = kernel.finalize();
   ASSERT_EQ(r.segments.size(), 1u);
@@ -241,6 +245,7 @@ TEST(SegmentationKernel, ReviseTypesTurnsTheBandOfATangentFilletIntoACylinder) {
         kernel.reviseTypes();
       kernel.refineBoundaries();
       kernel.joinCreases();
+      kernel.recoverSmallFaces();
       kernel.dropNonSurfaces();
       const SegmentationResult r = kernel.finalize();
       // The segment holding most of the fillet's points.
@@ -264,6 +269,113 @@ TEST(SegmentationKernel, ReviseTypesTurnsTheBandOfATangentFilletIntoACylinder) {
     }
   }
   EXPECT_GE(planes_before, 6);
+}
+
+}  // namespace
+}  // namespace slipfit
+
+namespace slipfit {
+namespace {
+
+// A CAD-like plate as Fit4CAD samples them: the faces z = 0 and z = −2 of [−20, 20]², four
+// through holes of radius 1.5, 2, 2.5 and 3 at (±10, ±10), noise-free points at a mean spacing
+// of 1 (uniform on each face), plus the holes' rim circles sampled at spacing 1: those points lie
+// on a plate face and on the hole's wall. \a truth: 0, 1 the faces, 2 + h the wall of hole h
+// (its rims included).
+pcl::PointCloud<pcl::PointNormal>::Ptr plateWithHoles(unsigned seed, std::vector<int>& truth) {
+  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double half = 20.0, depth = 2.0;
+  const std::array<double, 4> radius{1.5, 2.0, 2.5, 3.0};
+  const std::array<Eigen::Vector2d, 4> centre{Eigen::Vector2d(-10, -10), Eigen::Vector2d(10, -10),
+                                              Eigen::Vector2d(-10, 10), Eigen::Vector2d(10, 10)};
+  const auto add = [&](double x, double y, double z, int label) {
+    pcl::PointNormal q;
+    q.x = float(x);
+    q.y = float(y);
+    q.z = float(z);
+    cloud->push_back(q);
+    truth.push_back(label);
+  };
+  for (int face = 0; face < 2; ++face)
+    for (int i = 0, n = int(4 * half * half); i < n;) {
+      const double x = half * (2 * u(rng) - 1), y = half * (2 * u(rng) - 1);
+      bool in_hole = false;
+      for (int h = 0; h < 4; ++h)
+        in_hole = in_hole || (Eigen::Vector2d(x, y) - centre[h]).norm() < radius[h];
+      if (in_hole)
+        continue;
+      add(x, y, -depth * face, face);
+      ++i;
+    }
+  for (int h = 0; h < 4; ++h) {
+    const double r = radius[h];
+    for (int i = 0, n = int(2 * M_PI * r * depth); i < n; ++i) {
+      const double t = 2 * M_PI * u(rng);
+      add(centre[h].x() + r * std::cos(t), centre[h].y() + r * std::sin(t), -depth * u(rng), 2 + h);
+    }
+    for (int face = 0; face < 2; ++face)
+      for (int i = 0, n = int(2 * M_PI * r); i < n; ++i) {
+        const double t = 2 * M_PI * (i + 0.5 * face) / n;
+        add(centre[h].x() + r * std::cos(t), centre[h].y() + r * std::sin(t), -depth * face, 2 + h);
+      }
+  }
+  return cloud;
+}
+
+// The holes' walls are two or three rows of points deep: every neighborhood there straddles the
+// rims, no seed grows, and the faces take the rims. recoverSmallFaces fits the free patch of each
+// wall with the rims it shares: every hole a cylinder of its radius holding its wall.
+TEST(SegmentationKernel, RecoverSmallFacesFindsTheWallsOfSmallHoles) {
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    std::vector<int> truth;
+    const auto cloud = plateWithHoles(seed, truth);
+    const Inputs in = prepare(cloud, 12);
+    for (const bool recover : {false, true}) {
+      SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
+      kernel.estimateScale();
+      kernel.growSlippageSeeds();
+      kernel.growFreeSeeds();
+      kernel.mergeRegions();
+      kernel.reviseTypes();
+      kernel.refineBoundaries();
+      kernel.joinCreases();
+      if (recover)
+        kernel.recoverSmallFaces();
+      kernel.dropNonSurfaces();
+      const SegmentationResult r = kernel.finalize();
+      int found = 0;
+      for (int h = 0; h < 4; ++h) {
+        std::size_t wall = 0, best = 0, held = 0;
+        for (int t : truth)
+          wall += t == 2 + h ? 1 : 0;
+        for (std::size_t k = 0; k < r.segments.size(); ++k) {
+          std::size_t c = 0;
+          for (int i : r.segments[k].indices)
+            c += truth[static_cast<std::size_t>(i)] == 2 + h ? 1 : 0;
+          if (c > held) {
+            held = c;
+            best = k;
+          }
+        }
+        const auto* cylinder =
+            held ? std::get_if<Cylinder>(&r.segments[best].fit.refined) : nullptr;
+        std::cout << "seed " << seed << (recover ? " with" : " without") << " hole " << h << ": "
+                  << held << " of " << wall << " in a "
+                  << (held ? primitiveTypeName(r.segments[best].fit.type) : "-") << " of "
+                  << (held ? r.segments[best].indices.size() : 0) << " points"
+                  << (cylinder ? ", r " + std::to_string(cylinder->radius) : "") << "\n";
+        if (cylinder && held >= 0.9 * wall &&
+            std::abs(cylinder->radius - (1.5 + 0.5 * h)) < 0.01 * (1.5 + 0.5 * h))
+          ++found;
+      }
+      if (recover)
+        EXPECT_EQ(found, 4) << "seed " << seed;
+      else
+        EXPECT_LE(found, 1) << "seed " << seed;
+    }
+  }
 }
 
 }  // namespace

@@ -12,9 +12,11 @@
 ///    band of a tangent fillet that read as a plane);
 /// 6. refineBoundaries — points that a neighboring segment's primitive explains better move;
 /// 7. joinCreases — free points at creases join the nearest adjacent primitive within tolerance;
-/// 8. dropNonSurfaces — regions that fill their tolerance slab like random points, or lie on one
+/// 8. recoverSmallFaces — a patch of free points that no adjacent primitive explains is a face too
+///    small to seed (a hole's wall, a narrow fillet): fitted with the edge points it shares;
+/// 9. dropNonSurfaces — regions that fill their tolerance slab like random points, or lie on one
 ///    level of a quantized axis, are dropped;
-/// 9. finalize — largest first, every segment refitted on all its members.
+/// 10. finalize — largest first, every segment refitted on all its members.
 ///
 /// Each phase can be run and inspected on its own (regions()), which is how the tests look inside.
 /// The design and its figures: docs/THEORY.md §6.
@@ -47,6 +49,7 @@ class SegmentationKernel {
   void reviseTypes();
   void refineBoundaries();
   void joinCreases();
+  void recoverSmallFaces();
   void dropNonSurfaces();
   /// Ends the run: the result with its segments largest first.
   SegmentationResult finalize();
@@ -61,6 +64,8 @@ class SegmentationKernel {
  private:
   void growRegion(PrimitiveType type, std::vector<int> members, SlippageType seed_type,
                   bool type_chosen);
+  /// A new region of \a members (their labels set to it).
+  void addRegion(std::vector<int> members, FitResult fit, SlippageType seed_type);
   void relabelFromRegions();
   void shareEdges();
   void drop(std::size_t region);
