@@ -25,18 +25,10 @@ using Cloud = pcl::PointCloud<pcl::PointNormal>;
 constexpr int kThreads = 2;
 constexpr int kK = 16;
 
-/// A scene of a million points: a ground plane, a sphere and a torus, 0.1% noise.
+/// slipfit::testing::millionPointScene, made once.
 const Cloud::ConstPtr& scene() {
-  static const Cloud::ConstPtr cloud = [] {
-    using namespace slipfit::testing;
-    auto c = std::make_shared<Cloud>(samplePlane(500000, -3, 3, -3, 3, 0, 1));
-    append(*c, sampleSphere(250000, Eigen::Vector3f(-1, 1, 1), 0.8f, 2));
-    append(*c, sampleTorus(250000, Eigen::Vector3f(1.2f, -1, 0.6f), 1.0f, 0.3f, 3));
-    addNoise(*c, 0.006f, 4);
-    for (auto& p : c->points)
-      p.getNormalVector3fMap().setConstant(std::numeric_limits<float>::quiet_NaN());
-    return c;
-  }();
+  static const Cloud::ConstPtr cloud =
+      std::make_shared<Cloud>(slipfit::testing::millionPointScene());
   return cloud;
 }
 

@@ -86,7 +86,12 @@ int describe(const std::string& name, std::ostream& out) {
     stage = info->make();
     stage->declare(options);
     out << info->name << ": " << info->summary << "\n";
-    stage->prepare();
+    try {
+      stage->prepare();
+    } catch (const OptionValueError&) {
+      // Some stages have no complete default (crop needs limits); their flow does not depend on
+      // the options that are missing.
+    }
     const DataFlow flow = stage->flow();
     out << "consumes: " << dataBitsText(flow.consumes)
         << "; produces: " << (flow.produces ? dataBitsText(flow.produces) : "nothing new") << "\n";

@@ -367,24 +367,26 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
 
   std::vector<std::size_t> keep;
   keep.reserve(n);
+  const auto normal_ok = [&](std::size_t i) {
+    const double nx = value(i, fnx), ny = value(i, fny), nz = value(i, fnz);
+    return std::isfinite(nx) && std::isfinite(ny) && std::isfinite(nz) &&
+           nx * nx + ny * ny + nz * nz > 0.0;
+  };
+  std::size_t normals_missing = 0, first_missing_normal = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const double x = value(i, fx), y = value(i, fy), z = value(i, fz);
-    bool ok = std::isfinite(x) && std::isfinite(y) && std::isfinite(z) &&
-              std::abs(x) <= std::numeric_limits<float>::max() &&
-              std::abs(y) <= std::numeric_limits<float>::max() &&
-              std::abs(z) <= std::numeric_limits<float>::max();
-    const char* what = "a non-finite coordinate (NaN, inf or not a number)";
-    if (ok && has_normals) {
-      const double nx = value(i, fnx), ny = value(i, fny), nz = value(i, fnz);
-      ok = std::isfinite(nx) && std::isfinite(ny) && std::isfinite(nz) &&
-           nx * nx + ny * ny + nz * nz > 0.0;
-      what = "a zero or non-finite normal";
-    }
+    const bool ok = std::isfinite(x) && std::isfinite(y) && std::isfinite(z) &&
+                    std::abs(x) <= std::numeric_limits<float>::max() &&
+                    std::abs(y) <= std::numeric_limits<float>::max() &&
+                    std::abs(z) <= std::numeric_limits<float>::max();
     if (ok) {
       keep.push_back(i);
+      if (has_normals && !normal_ok(i) && normals_missing++ == 0)
+        first_missing_normal = i;
     } else if (nan_policy == NanPolicy::error) {
-      throw RunError(where + "point " + std::to_string(i) + " has " + what +
-                     "; set input.nan: skip to drop such points");
+      throw RunError(where + "point " + std::to_string(i) +
+                     " has a non-finite coordinate (NaN, inf or not a number); set input.nan: "
+                     "skip to drop such points");
     }
   }
   if (keep.empty())
@@ -392,6 +394,18 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
 
   PointData data;
   data.has_normals = has_normals;
+  // A sensor's view: an organized PCD, or one whose VIEWPOINT is not the identity at the origin.
+  const bool posed = origin.head<3>().squaredNorm() > 0.0f ||
+                     !orientation.coeffs().isApprox(Eigen::Quaternionf::Identity().coeffs());
+  if (ext == ".pcd" && (blob.height > 1 || posed) && origin.allFinite() &&
+      orientation.coeffs().allFinite() && orientation.norm() > 0.0f) {
+    SensorPose sensor;
+    sensor.origin = origin.head<3>().cast<double>();
+    sensor.orientation = orientation.cast<double>().normalized();
+    sensor.width = blob.width;
+    sensor.height = blob.height;
+    data.sensor = sensor;
+  }
   data.has_curvature = has_normals && fcurv != nullptr;
   auto& cloud = *data.cloud;
   cloud.resize(keep.size());
@@ -402,14 +416,15 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
     p.x = static_cast<float>(value(i, fx));
     p.y = static_cast<float>(value(i, fy));
     p.z = static_cast<float>(value(i, fz));
-    if (has_normals) {
+    const bool normal = has_normals && normal_ok(i);
+    if (normal) {
       p.normal_x = static_cast<float>(value(i, fnx));
       p.normal_y = static_cast<float>(value(i, fny));
       p.normal_z = static_cast<float>(value(i, fnz));
     } else {
       p.normal_x = p.normal_y = p.normal_z = nan;
     }
-    p.curvature = data.has_curvature ? static_cast<float>(value(i, fcurv)) : nan;
+    p.curvature = data.has_curvature && normal ? static_cast<float>(value(i, fcurv)) : nan;
   }
   cloud.width = static_cast<std::uint32_t>(keep.size());
   cloud.height = 1;
@@ -439,6 +454,8 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
     report->points_read = n;
     report->dropped = n - keep.size();
     report->normals = has_normals;
+    report->normals_missing = normals_missing;
+    report->first_missing_normal = first_missing_normal;
     report->extra_fields.clear();
     for (const Field* f : extra)
       report->extra_fields += (report->extra_fields.empty() ? "" : ", ") + f->name;

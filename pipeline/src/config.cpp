@@ -15,8 +15,11 @@ namespace slipfit::pipeline {
 void InputSection::declare(OptionSet& o) {
   o.add("path", path, "Point cloud to read: .ply (ascii or binary) or .pcd.").required();
   o.add("nan", nan, kNanPolicyNames,
-        "Points with a NaN/inf coordinate or normal: 'error' stops, 'skip' drops them and reports "
-        "how many (organized scans mark missing depth with NaN).");
+        "Points with a NaN/inf coordinate: 'skip' (the default, as PCL's tools) drops them and "
+        "reports how many (organized scans mark missing depth with NaN); 'error' stops. A point "
+        "whose given normal is NaN/inf/zero keeps its place with the normal missing when a stage "
+        "estimates normals before any stage reads them; when a stage reads the given normals, "
+        "'skip' drops it and 'error' stops.");
 }
 
 void OutputSection::declare(OptionSet& o) {
@@ -273,6 +276,17 @@ std::string checkDataFlow(const PipelineConfig& config, unsigned input_bits) {
   if (!(available & kPoints))
     return "no input section and no stage that makes points (e.g. torus_sampling)";
   return "";
+}
+
+const ConfiguredStage* firstUserOfInputNormals(const PipelineConfig& config) {
+  for (const auto& s : config.stages) {
+    const DataFlow flow = s.stage->flow();
+    if (flow.consumes & kNormals)
+      return &s;
+    if (flow.produces & kNormals)
+      return nullptr;
+  }
+  return nullptr;
 }
 
 }  // namespace slipfit::pipeline

@@ -90,11 +90,8 @@ namespace slipfit::pipeline {
 
 void PointData::keepOnly(const std::vector<char>& keep) {
   const std::size_t n = size();
-  std::vector<pcl::index_t> new_index(n, -1);
-  std::size_t m = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    if (keep[i])
-      new_index[i] = static_cast<pcl::index_t>(m++);
+  const auto m = static_cast<std::size_t>(
+      std::count_if(keep.begin(), keep.begin() + n, [](char k) { return k != 0; }));
   if (m == n)
     return;
 
@@ -111,10 +108,12 @@ void PointData::keepOnly(const std::vector<char>& keep) {
   // A new cloud rather than the old one compacted: the cloud may be shared (the subsample
   // stage keeps the full one).
   auto kept = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-  kept->reserve(m);
+  kept->points.reserve(m);
   for (std::size_t i = 0; i < n; ++i)
     if (keep[i])
-      kept->push_back((*cloud)[i]);
+      kept->points.push_back((*cloud)[i]);
+  kept->width = static_cast<std::uint32_t>(m);
+  kept->height = 1;
   kept->header = cloud->header;
   kept->is_dense = cloud->is_dense;
   kept->sensor_origin_ = cloud->sensor_origin_;
@@ -138,6 +137,10 @@ void PointData::keepOnly(const std::vector<char>& keep) {
     extra.width = static_cast<std::uint32_t>(m);
   }
   if (neighborhoods) {
+    std::vector<pcl::index_t> new_index(n, -1);
+    for (std::size_t i = 0, j = 0; i < n; ++i)
+      if (keep[i])
+        new_index[i] = static_cast<pcl::index_t>(j++);
     auto remapped = std::make_shared<Neighborhoods>();
     remapped->reserve(m, neighborhoods->entries());
     pcl::Indices ind;

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <ostream>
@@ -97,6 +98,33 @@ class NullBuffer : public std::streambuf {
  protected:
   int overflow(int c) override { return c; }
 };
+/// Points whose given normal is missing (NaN, inf or zero in the file): when no stage reads the
+/// given normals before one estimates them, they keep their place (the estimate replaces the
+/// missing normal); when a stage reads them, input.nan decides — skip drops those points (the
+/// count is returned), error stops naming the first point and the stage.
+std::size_t settleMissingNormals(const PipelineConfig& config, const ReadReport& read,
+                                 PointData& data) {
+  if (!read.normals_missing)
+    return 0;
+  const ConfiguredStage* user = firstUserOfInputNormals(config);
+  if (!user)
+    return 0;
+  if (config.input.nan == NanPolicy::error)
+    throw RunError("input '" + config.input.path + "': point " +
+                   std::to_string(read.first_missing_normal) +
+                   " has a zero or non-finite normal (" + std::to_string(read.normals_missing) +
+                   " such points) and stage '" + user->tag + "' (" + user->type +
+                   ") reads the given normals; set input.nan: skip to drop such points");
+  std::vector<char> keep(data.size());
+  for (std::size_t i = 0; i < data.size(); ++i)
+    keep[i] = std::isfinite((*data.cloud)[i].normal_x) ? 1 : 0;
+  data.keepOnly(keep);
+  if (data.size() == 0)
+    throw RunError("input '" + config.input.path + "': none of its points has a finite normal, " +
+                   "and stage '" + user->tag + "' (" + user->type + ") reads the given normals");
+  return read.normals_missing;
+}
+
 }  // namespace
 
 std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& options,
@@ -119,12 +147,24 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
     data = readCloud(config.input.path, config.input.nan, &read);
     progress.end();
     points = data.size();
+    const std::size_t normals_dropped = settleMissingNormals(config, read, data);
     report << "input: " << config.input.path << ": " << data.size() << " points";
     if (read.dropped)
-      report << " (" << read.dropped << " non-finite dropped)";
+      report << " (" << read.dropped << " with a non-finite coordinate dropped)";
+    if (normals_dropped)
+      report << " (" << normals_dropped << " without a finite normal dropped)";
     report << ", normals: " << (read.normals ? "yes" : "no");
+    if (read.normals_missing && !normals_dropped)
+      report << " (" << read.normals_missing << " missing: re-estimated)";
     if (!read.extra_fields.empty())
       report << ", fields: " << read.extra_fields;
+    if (data.sensor) {
+      const SensorPose& s = *data.sensor;
+      if (s.height > 1)
+        report << ", organized " << s.width << " x " << s.height;
+      report << ", sensor at (" << s.origin.x() << ", " << s.origin.y() << ", " << s.origin.z()
+             << ")";
+    }
     report << "\n";
     reportStep(report, "read", start, memory, points);
     input_bits = data.available();

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace slipfit {
 
@@ -23,6 +24,29 @@ void RenderParameters::validate() const {
     throw InvalidParameterError("render: eye and target must be finite");
   if (splat_radius && !(*splat_radius > 0.0 && *splat_radius <= 64.0))
     throw InvalidParameterError("render: splat_radius must be in (0, 64] pixels");
+}
+
+void useSensorCamera(RenderParameters& parameters, const Eigen::Vector3d& origin,
+                     const Eigen::Quaterniond& orientation,
+                     const Eigen::Ref<const Eigen::Matrix3Xf>& points) {
+  const Eigen::Matrix3d r = orientation.normalized().toRotationMatrix();
+  const Eigen::Vector3d axis = r.col(2);
+  std::vector<double> depth;
+  depth.reserve(static_cast<std::size_t>(points.cols()));
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    const double z = (points.col(i).cast<double>() - origin).dot(axis);
+    if (std::isfinite(z) && z > 0.0)
+      depth.push_back(z);
+  }
+  double median = 1.0;
+  if (!depth.empty()) {
+    auto mid = depth.begin() + static_cast<std::ptrdiff_t>(depth.size() / 2);
+    std::nth_element(depth.begin(), mid, depth.end());
+    median = *mid;
+  }
+  parameters.eye = origin;
+  parameters.target = origin + median * axis;
+  parameters.up = -r.col(1);
 }
 
 std::vector<std::uint8_t> renderSplats(

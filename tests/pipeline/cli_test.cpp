@@ -193,7 +193,7 @@ INSTANTIATE_TEST_SUITE_P(
                   "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float "
                   "y\nproperty float z\nend_header\n",
                   1, "the cloud is empty (0 points)"},
-        ErrorCase{"nan", "input: {path: {in}}\n" + kTwoStages,
+        ErrorCase{"nan", "input: {path: {in}, nan: error}\n" + kTwoStages,
                   std::string(kAsciiHeader3) + "0 0 0\n1 nan 1\n2 2 2\n", 1,
                   "point 1 has a non-finite coordinate"},
         ErrorCase{

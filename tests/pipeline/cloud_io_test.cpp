@@ -6,6 +6,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <pcl/conversions.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
@@ -248,6 +250,50 @@ TEST(CloudIo, NanPointsAreAnErrorOrSkippedWithACount) {
   const std::string all =
       testing::scratchFile("allnan.ply", std::string(kAsciiHeader) + "nan 0 0\n0 nan 0\n0 0 inf\n");
   EXPECT_THAT(readError(all, NanPolicy::skip), HasSubstr("none of its 3 points has finite values"));
+}
+
+// A point whose given normal is NaN or zero keeps its place (whatever the policy: coordinates
+// decide it), its normal and curvature NaN, and the report counts it and names the first.
+TEST(CloudIo, PointsWithMissingNormalsAreKeptAndCounted) {
+  const std::string path = testing::scratchFile(
+      "nan_normals.ply",
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty "
+      "float z\nproperty float nx\nproperty float ny\nproperty float nz\nend_header\n0 0 0 0 0 "
+      "1\n1 0 0 nan 0 1\n2 0 0 0 0 0\n3 0 0 0 0 1\n");
+  for (const NanPolicy policy : {NanPolicy::error, NanPolicy::skip}) {
+    ReadReport r;
+    const PointData d = readCloud(path, policy, &r);
+    ASSERT_EQ(d.size(), 4u);
+    EXPECT_TRUE(d.has_normals);
+    EXPECT_EQ(r.normals_missing, 2u);
+    EXPECT_EQ(r.first_missing_normal, 1u);
+    EXPECT_TRUE(std::isnan((*d.cloud)[1].normal_x));
+    EXPECT_TRUE(std::isnan((*d.cloud)[2].normal_z));
+    EXPECT_EQ((*d.cloud)[3].normal_z, 1.0f);
+  }
+}
+
+// An organized PCD (4 × 2, one NaN point) with a VIEWPOINT: the NaN point is dropped by default
+// and the sensor's pose and the grid are kept for the picture and the report; a PLY has none.
+TEST(CloudIo, OrganizedPcdKeepsItsSensorPose) {
+  const std::string path = testing::scratchFile(
+      "organized.pcd",
+      "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH "
+      "4\nHEIGHT 2\nVIEWPOINT 1 2 3 0.7071068 0.7071068 0 0\nPOINTS 8\nDATA ascii\n0 0 1\n1 "
+      "0 1\n2 0 1\nnan nan nan\n0 1 1\n1 1 1\n2 1 1\n3 1 1\n");
+  ReadReport r;
+  const PointData d = readCloud(path, NanPolicy::skip, &r);
+  EXPECT_EQ(d.size(), 7u);
+  ASSERT_TRUE(d.sensor.has_value());
+  EXPECT_EQ(d.sensor->width, 4u);
+  EXPECT_EQ(d.sensor->height, 2u);
+  EXPECT_LT((d.sensor->origin - Eigen::Vector3d(1, 2, 3)).norm(), 1e-6);
+  EXPECT_NEAR(d.sensor->orientation.angularDistance(
+                  Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()))),
+              0.0, 1e-6);
+  const std::string ply =
+      testing::scratchFile("plain.ply", std::string(kAsciiHeader) + "0 0 0\n1 1 1\n2 2 2\n");
+  EXPECT_FALSE(readCloud(ply, NanPolicy::error).sensor.has_value());
 }
 
 TEST(CloudIo, BadFilesGiveOneClearError) {

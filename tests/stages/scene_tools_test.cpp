@@ -201,5 +201,41 @@ TEST(SplatRenderer, NearestSplatWinsAndColoursAreShaded) {
   EXPECT_NEAR(far[centre], 200, 1);
 }
 
+// A sensor at (1, 2, 3) turned 90° about x (its z axis along −y of the world, its y along +z):
+// the camera sits at the sensor, looks along its z at the median depth of the points in front,
+// with up its −y; a point straight ahead lands in the image centre, one "below" in the sensor's
+// image (+y) in the lower half.
+TEST(SplatRenderer, SensorCameraLooksAlongTheSensorAxis) {
+  const Eigen::Vector3d origin(1, 2, 3);
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()));
+  const Eigen::Vector3d ahead = q * Eigen::Vector3d::UnitZ();  // (0, −1, 0)
+  const Eigen::Vector3d down = q * Eigen::Vector3d::UnitY();   // (0, 0, 1)
+  Eigen::Matrix3Xf x(3, 4);
+  x.col(0) = (origin + 2.0 * ahead).cast<float>();
+  x.col(1) = (origin + 4.0 * ahead + 0.5 * down).cast<float>();
+  x.col(2) = (origin + 6.0 * ahead).cast<float>();
+  x.col(3) = (origin - 5.0 * ahead).cast<float>();  // behind the sensor: not in the median
+  RenderParameters r;
+  r.width = 64;
+  r.height = 48;
+  useSensorCamera(r, origin, q, x);
+  ASSERT_TRUE(r.eye && r.target);
+  EXPECT_LT((*r.eye - origin).norm(), 1e-12);
+  EXPECT_LT((*r.target - (origin + 4.0 * ahead)).norm(), 1e-9);  // median depth of 2, 4, 6
+  EXPECT_LT((r.up + down).norm(), 1e-9);
+  Eigen::Matrix3Xf n = Eigen::Matrix3Xf::Zero(3, 2);
+  Eigen::Matrix<std::uint8_t, 3, Eigen::Dynamic> c(3, 2);
+  c << 200, 0, 0, 0, 0, 200;
+  Eigen::Matrix3Xf pair(3, 2);
+  pair << x.col(0), x.col(1);
+  const std::vector<std::uint8_t> image = renderSplats(pair, c, n, r);
+  const std::size_t centre = (24u * 64u + 32u) * 3u;
+  EXPECT_EQ(image[centre], 200);  // the point straight ahead
+  bool below = false;
+  for (std::size_t row = 25; row < 48; ++row)
+    below = below || image[(row * 64u + 32u) * 3u + 2] == 200;
+  EXPECT_TRUE(below) << "the point below the axis is in the lower half";
+}
+
 }  // namespace
 }  // namespace slipfit

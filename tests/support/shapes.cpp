@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 namespace slipfit::testing {
@@ -101,6 +102,16 @@ void addNoise(Cloud& cloud, float sigma, std::uint64_t seed) {
 void append(Cloud& a, const Cloud& b) {
   a.insert(a.end(), b.begin(), b.end());
   finish(a);
+}
+
+Cloud millionPointScene() {
+  Cloud c = samplePlane(500000, -3, 3, -3, 3, 0, 1);
+  append(c, sampleSphere(250000, Eigen::Vector3f(-1, 1, 1), 0.8f, 2));
+  append(c, sampleTorus(250000, Eigen::Vector3f(1.2f, -1, 0.6f), 1.0f, 0.3f, 3));
+  addNoise(c, 0.006f, 4);
+  for (auto& p : c.points)
+    p.getNormalVector3fMap().setConstant(std::numeric_limits<float>::quiet_NaN());
+  return c;
 }
 
 double maxAngleDeg(const Eigen::Matrix3Xf& normals, const Eigen::Matrix3Xf& reference,

@@ -34,6 +34,10 @@ void addNoise(Cloud& cloud, float sigma, std::uint64_t seed);
 /// Appends \a b to \a a.
 void append(Cloud& a, const Cloud& b);
 
+/// The benchmarks' million-point scene: a ground plane (500k points), a sphere and a torus (250k
+/// each), 0.006 Gaussian noise, normals NaN (a scan's points only).
+Cloud millionPointScene();
+
 /// Largest angle in degrees between a normal and the corresponding reference, ignoring sign when
 /// \a unsigned_ is true.
 double maxAngleDeg(const Eigen::Matrix3Xf& normals, const Eigen::Matrix3Xf& reference,

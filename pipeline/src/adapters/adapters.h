@@ -15,5 +15,8 @@ StageInfo slippageClassificationInfo();
 StageInfo sceneSamplingInfo();
 StageInfo segmentationInfo();
 StageInfo subsampleInfo();
+StageInfo cropInfo();
+StageInfo voxelGridInfo();
+StageInfo outlierRemovalInfo();
 
 }  // namespace slipfit::pipeline::adapters

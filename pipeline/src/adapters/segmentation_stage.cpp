@@ -51,7 +51,9 @@ class SegmentationStage : public Stage {
         .allowEmpty();
     o.add("view_direction", view_direction_,
           "Render: direction from the scene's centre towards the camera.");
-    o.add("eye", eye_, "Render: camera position (unset: along view_direction, framing the cloud).")
+    o.add("eye", eye_,
+          "Render: camera position (unset: the sensor's, looking along its z axis, for an "
+          "organized PCD or one with a VIEWPOINT; else along view_direction, framing the cloud).")
         .unit("units");
     o.add("image_width", image_width_, "Render: width.").unit("pixels").range(16, 8192);
     o.add("image_height", image_height_, "Render: height.").unit("pixels").range(16, 8192);
@@ -229,7 +231,11 @@ class SegmentationStage : public Stage {
       const auto u = static_cast<std::size_t>(i);
       rgb.col(i) << red[u], green[u], blue[u];
     }
-    const std::vector<std::uint8_t> image = renderSplats(x, rgb, nn, render_parameters_);
+    // A sensor's view is rendered from the sensor unless the config places the camera.
+    RenderParameters camera = render_parameters_;
+    if (!eye_ && data.sensor)
+      useSensorCamera(camera, data.sensor->origin, data.sensor->orientation, x);
+    const std::vector<std::uint8_t> image = renderSplats(x, rgb, nn, camera);
     context.outputs->add(render_, [&](const std::string& path) {
       pcl::io::saveRgbPNGFile(path, image.data(), render_parameters_.width,
                               render_parameters_.height);

@@ -3,6 +3,7 @@
 /// round splats seen through a pinhole camera — a picture of a segmentation without a 3D viewer.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <cstdint>
 #include <optional>
@@ -27,6 +28,15 @@ struct RenderParameters {
   /// Throws InvalidParameterError naming the field.
   void validate() const;
 };
+
+/// Points \a parameters' camera from a range sensor at \a origin with \a orientation, in PCL's
+/// sensor frame convention (the sensor looks along its +z, image rows run along its +y): the eye
+/// at the origin, looking along the sensor's z axis at the median depth of the \a points in front
+/// of it (1 when none is), up the sensor's −y. Camera-frame scans are then seen as they were
+/// taken, not framed by their far background.
+void useSensorCamera(RenderParameters& parameters, const Eigen::Vector3d& origin,
+                     const Eigen::Quaterniond& orientation,
+                     const Eigen::Ref<const Eigen::Matrix3Xf>& points);
 
 /// Renders 3 × N points with per-point RGB colours (3 × N) and optional normals (3 × N, any sign;
 /// 0 columns: flat colour) into a row-major RGB image of width × height × 3 bytes. Lambert

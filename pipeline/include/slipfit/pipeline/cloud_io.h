@@ -19,16 +19,21 @@ constexpr std::array<std::pair<NanPolicy, std::string_view>, 2> kNanPolicyNames{
 
 struct ReadReport {
   std::size_t points_read = 0;  ///< points in the file
-  std::size_t dropped = 0;      ///< points dropped for non-finite coordinates or normals
-  bool normals = false;         ///< the file has (finite) normals
+  std::size_t dropped = 0;      ///< points dropped for non-finite coordinates
+  bool normals = false;         ///< the file has normals
+  /// Points kept whose given normal is NaN, inf or zero: their normal is NaN (missing).
+  std::size_t normals_missing = 0;
+  std::size_t first_missing_normal = 0;  ///< the file's index of the first such point
   std::string extra_fields;     ///< the names of the fields carried through, comma separated
 };
 
 /// Reads a .ply (ascii or binary) or .pcd file. Coordinates and normals of any numeric type
 /// become float; normals are recognised as normal_x/normal_y/normal_z (PLY nx/ny/nz); every
-/// other field is kept in PointData::extra with its own type. Throws RunError on a missing,
-/// unreadable, truncated or empty file, a file without x/y/z, or non-finite values under
-/// NanPolicy::error.
+/// other field is kept in PointData::extra with its own type. Points with a non-finite coordinate
+/// are dropped (NanPolicy::skip) or refused (error); a point whose given normal is non-finite or
+/// zero is kept with a NaN normal and counted in the report (the caller decides: see runner.cpp).
+/// Throws RunError on a missing, unreadable, truncated or empty file, a file without x/y/z, or a
+/// non-finite coordinate under NanPolicy::error.
 PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report = nullptr);
 
 /// Writes every point with its normals (when present), curvature (when computed), the extra fields

@@ -18,7 +18,7 @@ namespace slipfit::pipeline {
 /// The `input:` section.
 struct InputSection {
   std::string path;
-  NanPolicy nan = NanPolicy::error;
+  NanPolicy nan = NanPolicy::skip;  // PCL's tools drop NaN points (removeNaNFromPointCloud)
   void declare(OptionSet& options);
 };
 
@@ -65,5 +65,9 @@ PipelineConfig loadConfig(const std::string& path, const std::vector<std::string
 /// Checks that each stage's inputs are available when it runs, given the data bits the input
 /// provides. Returns "" or the problem.
 std::string checkDataFlow(const PipelineConfig& config, unsigned input_bits);
+
+/// The first stage that reads the input's own normals (it consumes normals before any stage
+/// produces them), or nullptr.
+const ConfiguredStage* firstUserOfInputNormals(const PipelineConfig& config);
 
 }  // namespace slipfit::pipeline

@@ -8,8 +8,11 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <Eigen/Geometry>
+
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -29,11 +32,22 @@ enum DataBits : unsigned {
   kNeighborhoods = 1u << 2,
 };
 
+/// Where a range sensor stood: a PCD's VIEWPOINT (PCL's sensor_origin_ / sensor_orientation_),
+/// and the rows and columns of an organized cloud (before its NaN points were dropped).
+struct SensorPose {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  std::uint32_t width = 0, height = 0;  ///< organized: height > 1
+};
+
 /// The pipeline's state. Every per-point array is aligned with `cloud`.
 struct PointData {
   /// Coordinates, and normals + curvature when has_normals (else NaN).
   pcl::PointCloud<pcl::PointNormal>::Ptr cloud{new pcl::PointCloud<pcl::PointNormal>};
   bool has_normals = false;
+  /// Set when the input is a sensor's view (an organized cloud, or a PCD with a VIEWPOINT other
+  /// than the identity at the origin): the picture is then taken from the sensor.
+  std::optional<SensorPose> sensor;
   /// curvature holds a meaningful value (set by normal estimation).
   bool has_curvature = false;
   /// The input's other fields (colour, intensity, ...), carried through unchanged.
