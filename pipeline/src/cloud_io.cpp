@@ -375,18 +375,21 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   std::size_t normals_missing = 0, first_missing_normal = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const double x = value(i, fx), y = value(i, fy), z = value(i, fz);
-    const bool ok = std::isfinite(x) && std::isfinite(y) && std::isfinite(z) &&
-                    std::abs(x) <= std::numeric_limits<float>::max() &&
-                    std::abs(y) <= std::numeric_limits<float>::max() &&
-                    std::abs(z) <= std::numeric_limits<float>::max();
+    const bool finite = std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
+    const double largest = std::max({std::abs(x), std::abs(y), std::abs(z)});
+    const bool ok = finite && largest <= std::numeric_limits<float>::max();
     if (ok) {
       keep.push_back(i);
       if (has_normals && !normal_ok(i) && normals_missing++ == 0)
         first_missing_normal = i;
     } else if (nan_policy == NanPolicy::error) {
-      throw RunError(where + "point " + std::to_string(i) +
-                     " has a non-finite coordinate (NaN, inf or not a number); set input.nan: "
-                     "skip to drop such points");
+      std::ostringstream what;
+      if (finite)
+        what << " has a coordinate beyond float's range (" << largest << " > 3.4e38)";
+      else
+        what << " has a non-finite coordinate (NaN, inf or not a number)";
+      throw RunError(where + "point " + std::to_string(i) + what.str() +
+                     "; set input.nan: skip to drop such points");
     }
   }
   if (keep.empty())

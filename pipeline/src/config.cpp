@@ -28,7 +28,8 @@ void OutputSection::declare(OptionSet& o) {
   o.add("cloud", cloud,
         "File name of the output cloud inside dir (empty: none, when the stages write what is "
         "wanted).")
-      .allowEmpty();
+      .allowEmpty()
+      .fileName();
 }
 
 void RunSettings::declare(OptionSet& o) {
@@ -59,6 +60,7 @@ class Loader {
     }
     if (!root_.IsMap())
       fail(path_ + ": the config must be a YAML map with input, stages, output");
+    refuseMergeKeys(root_);
     for (const auto& o : overrides)
       applyOverride(o);
   }
@@ -105,6 +107,22 @@ class Loader {
 
  private:
   [[noreturn]] static void fail(const std::string& message) { throw ConfigError(message); }
+
+  /// yaml-cpp reads a merge key (`<<: *defaults`) as an ordinary key named "<<": say so rather
+  /// than report the keys it was meant to bring as missing.
+  void refuseMergeKeys(const YAML::Node& node) const {
+    if (node.IsMap()) {
+      for (const auto& kv : node) {
+        if (kv.first.IsScalar() && kv.first.Scalar() == "<<")
+          fail(at(kv.first.Mark()) +
+               "YAML merge keys ('<<') are not supported: write the keys out in full");
+        refuseMergeKeys(kv.second);
+      }
+    } else if (node.IsSequence()) {
+      for (const auto& item : node)
+        refuseMergeKeys(item);
+    }
+  }
 
   std::string at(const YAML::Mark& mark) const {
     if (mark.is_null())

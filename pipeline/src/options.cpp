@@ -147,6 +147,11 @@ Option& OptionSet::add(std::string name, std::string& field, std::string help) {
                 field = scalarText(node, option);
                 if (field.empty() && !option.allowsEmpty())
                   throw OptionValueError("must not be empty");
+                if (option.isFileName() && (field.find_first_of("/\\") != std::string::npos ||
+                                            field == "." || field == ".."))
+                  throw OptionValueError(
+                      "must be a plain file name inside output.dir (no directory part), got '" +
+                      field + "'");
               });
 }
 

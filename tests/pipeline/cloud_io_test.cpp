@@ -250,6 +250,13 @@ TEST(CloudIo, NanPointsAreAnErrorOrSkippedWithACount) {
   const std::string all =
       testing::scratchFile("allnan.ply", std::string(kAsciiHeader) + "nan 0 0\n0 nan 0\n0 0 inf\n");
   EXPECT_THAT(readError(all, NanPolicy::skip), HasSubstr("none of its 3 points has finite values"));
+  // A finite double beyond float's range is named as such, not as NaN (issue 15).
+  const std::string big = testing::scratchFile(
+      "big.ply",
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty double y\nproperty "
+      "double z\nend_header\n0 0 0\n1e39 0 0\n");
+  EXPECT_THAT(readError(big),
+              HasSubstr("point 1 has a coordinate beyond float's range (1e+39 > 3.4e38)"));
 }
 
 // A point whose given normal is NaN or zero keeps its place (whatever the policy: coordinates

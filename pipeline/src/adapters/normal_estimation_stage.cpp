@@ -41,7 +41,7 @@ class NormalEstimationStage : public Stage {
           "When the input has normals, keep them as they are and estimate nothing.");
     o.add("failed", failed_, kFailedNormalsNames,
           "Points whose normal cannot be estimated (fewer than 3 neighbors): drop them, or stop "
-          "with an error.");
+          "with an error. More than half of the points without a normal is an error either way.");
   }
 
   void prepare() override { p_.validate(); }
@@ -75,6 +75,12 @@ class NormalEstimationStage : public Stage {
     if (st.failed > 0 && failed_ == FailedNormals::error)
       throw RunError(std::to_string(st.failed) +
                      " points have no normal (fewer than 3 neighbors or non-finite)");
+    // Dropping is for the odd isolated point; a neighborhood setting that leaves most points
+    // without a normal is a mistake to report, not a cloud to shrink silently.
+    if (2 * st.failed > data.size())
+      throw RunError(std::to_string(st.failed) + " of " + std::to_string(data.size()) +
+                     " points have no normal (fewer than 3 neighbors or non-finite): more than "
+                     "half would be dropped; check k or radius");
 
     auto& cloud = *data.cloud;
     std::vector<char> keep(cloud.size(), 1);

@@ -58,7 +58,7 @@ class PrimitiveFittingStage : public Stage {
         .unit("units")
         .above(0);
     o.add("ransac_iterations", robust_.ransac_iterations, "RANSAC hypotheses.").range(1, 1000000);
-    o.add("report", report_, "File name of the YAML report in the output dir.");
+    o.add("report", report_, "File name of the YAML report in the output dir.").fileName();
   }
 
   DataFlow flow() const override {

@@ -43,12 +43,14 @@ class SegmentationStage : public Stage {
           "Adjacent segments merge when the best fit of their union has an RMS distance at most "
           "this factor times the larger of theirs.")
         .range(1, 10);
-    o.add("report", report_, "File name of the YAML report (one entry per segment).");
+    o.add("report", report_, "File name of the YAML report (one entry per segment).").fileName();
     o.add("segments", segments_,
-          "File name of the PLY of every point with label, primitive and red/green/blue.");
+          "File name of the PLY of every point with label, primitive and red/green/blue.")
+        .fileName();
     o.add("segment_files", segment_files_, "Also write each segment as segment_<label>.ply.");
     o.add("render", render_, "File name of a PNG picture of the segments (empty: none).")
-        .allowEmpty();
+        .allowEmpty()
+        .fileName();
     o.add("view_direction", view_direction_,
           "Render: direction from the scene's centre towards the camera.");
     o.add("eye", eye_,

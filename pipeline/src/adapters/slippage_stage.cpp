@@ -47,7 +47,8 @@ class SlippageStage : public Stage {
     o.add("fit", fit_,
           "Whole mode: report the refined fit of a primitive verdict (every type is fitted to "
           "decide the verdict; see docs/THEORY.md §5.4).");
-    o.add("report", report_, "Whole mode: file name of the YAML report in the output dir.");
+    o.add("report", report_, "Whole mode: file name of the YAML report in the output dir.")
+        .fileName();
   }
 
   DataFlow flow() const override {

@@ -53,7 +53,7 @@ class TorusSamplingStage : public Stage {
           "by the field 'outlier'.")
         .range(0, 1);
     o.add("mesh", mesh_, "Also write the stitched quad mesh as OFF (with normals, NOFF) and PLY.");
-    o.add("mesh_name", mesh_name_, "Base name of the mesh files in the output dir.");
+    o.add("mesh_name", mesh_name_, "Base name of the mesh files in the output dir.").fileName();
     o.add("mesh_alpha", m_.n_alpha, "Mesh vertices around the tube.")
         .unit("vertices")
         .range(3, 100000);

@@ -85,6 +85,13 @@ class Option {
     return *this;
   }
   bool allowsEmpty() const { return allow_empty_; }
+  /// A string option naming an output file: a plain file name inside output.dir (no directory
+  /// part, not "." or ".."), checked when the config is read, so `validate` refuses it too.
+  Option& fileName() {
+    file_name_ = true;
+    return *this;
+  }
+  bool isFileName() const { return file_name_; }
 
  private:
   std::string name_, type_, default_, help_, unit_;
@@ -92,6 +99,7 @@ class Option {
   bool lo_open_ = false;
   bool required_ = false;
   bool allow_empty_ = false;
+  bool file_name_ = false;
   std::vector<std::string> choices_;
   Parser parser_;
 };
