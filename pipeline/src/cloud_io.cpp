@@ -184,7 +184,18 @@ RowLayout rowLayout(const PointData& data) {
         if (f.name == "rgba")
           add("alpha", Field::UINT8, base + 3, stride);
       } else {
-        add(f.name, f.datatype, base, stride);
+        // An input field a stage also writes (label, red, ...) keeps its values under
+        // input_<name>: a PLY with two properties of one name is read back by no one.
+        const auto taken = [&](const std::string& name) {
+          return std::any_of(data.fields.begin(), data.fields.end(),
+                             [&](const auto& g) { return g.name == name; }) ||
+                 (name != f.name && std::any_of(data.extra.fields.begin(), data.extra.fields.end(),
+                                                [&](const auto& g) { return g.name == name; }));
+        };
+        std::string name = f.name;
+        while (taken(name))
+          name = "input_" + name;
+        add(name, f.datatype, base, stride);
       }
     }
   for (const auto& f : data.fields) {

@@ -300,3 +300,31 @@ TEST(SegmentationCli, RandomSceneOfAMillionPoints) {
 
 }  // namespace
 }  // namespace slipfit::testing
+
+namespace slipfit::testing {
+namespace {
+
+// Issue 15: an input that carries fields the segmentation writes (its own label, primitive) gave
+// a segments.ply with two properties of one name, which slipfit itself refused to read. The
+// demo's own segments.ply as the input: the new labels take the names, the input's are kept as
+// input_label and input_primitive, and the file reads back.
+TEST(SegmentationCli, InputFieldsNamedLikeStageFieldsAreKeptUnderInputNames) {
+  const std::string first = scratchDir("collide_first");
+  CliResult r = runSlipfit(
+      "run configs/demo.yaml --quiet --set 'segments.render=\"\"' "
+      "--set output.dir=" +
+      first);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string second = scratchDir("collide_second");
+  r = runSlipfit("run configs/demo.yaml --quiet --set 'segments.render=\"\"' --set input.path=" +
+                 first + "/segments.ply --set output.dir=" + second);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto before = pipeline::readCloud(first + "/segments.ply", pipeline::NanPolicy::error);
+  const auto after = pipeline::readCloud(second + "/segments.ply", pipeline::NanPolicy::error);
+  EXPECT_EQ(after.numericField("input_label"), before.numericField("label"));
+  EXPECT_EQ(after.numericField("input_primitive"), before.numericField("primitive"));
+  EXPECT_EQ(after.numericField("label").size(), before.size());
+}
+
+}  // namespace
+}  // namespace slipfit::testing
