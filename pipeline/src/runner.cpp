@@ -154,8 +154,13 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
     if (normals_dropped)
       report << " (" << normals_dropped << " without a finite normal dropped)";
     report << ", normals: " << (read.normals ? "yes" : "no");
-    if (read.normals_missing && !normals_dropped)
-      report << " (" << read.normals_missing << " missing: re-estimated)";
+    if (read.normals_missing && !normals_dropped) {
+      const bool estimated =
+          std::any_of(config.stages.begin(), config.stages.end(),
+                      [](const auto& s) { return (s.stage->flow().produces & kNormals) != 0; });
+      report << " (" << read.normals_missing << " missing" << (estimated ? ": re-estimated" : "")
+             << ")";
+    }
     if (!read.extra_fields.empty())
       report << ", fields: " << read.extra_fields;
     if (data.sensor) {
