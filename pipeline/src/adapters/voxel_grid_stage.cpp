@@ -7,6 +7,7 @@
 #include <pcl/filters/uniform_sampling.h>
 #include <pcl/filters/voxel_grid.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -84,7 +85,6 @@ class VoxelGridStage : public Stage {
       }
     }
     pcl::Indices kept;
-    std::vector<std::size_t> voxel_of_kept;
     for (std::size_t v = 0; v < m; ++v)
       if (nearest[v] >= 0)
         kept.push_back(nearest[v]);
