@@ -18,21 +18,25 @@ namespace slipfit::pipeline::adapters {
 
 namespace {
 
-enum class FitType { automatic, plane, sphere, cylinder, cone };
-constexpr std::array<std::pair<FitType, std::string_view>, 5> kFitTypeNames{{
+// auto, then the primitive types in PrimitiveType's order (fixedType() relies on it).
+enum class FitType { automatic, plane, sphere, cylinder, cone, torus };
+constexpr std::array<std::pair<FitType, std::string_view>, 6> kFitTypeNames{{
     {FitType::automatic, "auto"},
-    {FitType::plane, "plane"},
-    {FitType::sphere, "sphere"},
-    {FitType::cylinder, "cylinder"},
-    {FitType::cone, "cone"},
+    {FitType::plane, kPrimitiveTypeNames[0].second},
+    {FitType::sphere, kPrimitiveTypeNames[1].second},
+    {FitType::cylinder, kPrimitiveTypeNames[2].second},
+    {FitType::cone, kPrimitiveTypeNames[3].second},
+    {FitType::torus, kPrimitiveTypeNames[4].second},
 }};
+static_assert(static_cast<int>(FitType::torus) - 1 == static_cast<int>(PrimitiveType::torus));
 
 class PrimitiveFittingStage : public Stage {
  public:
   void declare(OptionSet& o) override {
     o.add("primitive", type_, kFitTypeNames,
-          "Primitive to fit; auto fits all four and keeps the least BIC (more parameters must "
-          "explain the data clearly better).");
+          "Primitive to fit; auto fits every type and keeps the simplest adequate one (RMS "
+          "within 25 % of the best, flat limits recognised: docs/THEORY.md §4.4), as the "
+          "segmentation and the whole-cloud classification do.");
     o.add("labels", labels_,
           "Integer per-point field: fit one primitive per label >= 0 (unset: the whole cloud).");
     o.add("weights", weights_, "Per-point field of non-negative weights (unset: all 1).");
@@ -62,7 +66,8 @@ class PrimitiveFittingStage : public Stage {
   }
 
   DataFlow flow() const override {
-    const bool normals = type_ == FitType::cylinder || type_ == FitType::cone;
+    const bool normals =
+        type_ == FitType::cylinder || type_ == FitType::cone || type_ == FitType::torus;
     return {normals ? (kPoints | kNormals) : kPoints, 0u};
   }
 
@@ -208,7 +213,8 @@ class PrimitiveFittingStage : public Stage {
     std::vector<FitResult> fits;
     double common = std::numeric_limits<double>::infinity();
     for (const auto& [type, name] : kPrimitiveTypeNames) {
-      if ((type == PrimitiveType::cylinder || type == PrimitiveType::cone) &&
+      if ((type == PrimitiveType::cylinder || type == PrimitiveType::cone ||
+           type == PrimitiveType::torus) &&
           normals.cols() != points.cols())
         continue;
       double lim = 0.0;
