@@ -7,13 +7,19 @@ namespace slipfit::pipeline {
 const std::vector<StageInfo>& stageRegistry() {
   // The one list of stages, in the order a pipeline usually runs them.
   static const std::vector<StageInfo> registry = {
-      adapters::torusSamplingInfo(),          adapters::primitiveSamplingInfo(),
-      adapters::motionSurfaceSamplingInfo(),  adapters::cropInfo(),
-      adapters::outlierRemovalInfo(),         adapters::voxelGridInfo(),
+      adapters::torusSamplingInfo(),
+      adapters::primitiveSamplingInfo(),
+      adapters::motionSurfaceSamplingInfo(),
+      adapters::cropInfo(),
+      adapters::outlierRemovalInfo(),
+      adapters::voxelGridInfo(),
       adapters::subsampleInfo(),
-      adapters::neighborhoodSelectionInfo(),  adapters::normalEstimationInfo(),
-      adapters::slippageClassificationInfo(), adapters::primitiveFittingInfo(),
-      adapters::sceneSamplingInfo(),          adapters::segmentationInfo(),
+      adapters::neighborhoodSelectionInfo(),
+      adapters::normalEstimationInfo(),
+      adapters::slippageClassificationInfo(),
+      adapters::primitiveFittingInfo(),
+      adapters::sceneSamplingInfo(),
+      adapters::segmentationInfo(),
   };
   return registry;
 }

@@ -24,7 +24,7 @@ struct ReadReport {
   /// Points kept whose given normal is NaN, inf or zero: their normal is NaN (missing).
   std::size_t normals_missing = 0;
   std::size_t first_missing_normal = 0;  ///< the file's index of the first such point
-  std::string extra_fields;     ///< the names of the fields carried through, comma separated
+  std::string extra_fields;  ///< the names of the fields carried through, comma separated
 };
 
 /// Reads a .ply (ascii or binary) or .pcd file. Coordinates and normals of any numeric type
