@@ -288,6 +288,35 @@ bool knownPcdType(u64 size, char type) {
   }
 }
 
+/// PCL sizes its buffers from the two 32-bit sizes that start a binary_compressed block (the
+/// uncompressed one twice over) and decompresses from the mapped file by the compressed one:
+/// both are checked against the header and the file first.
+void checkCompressedBlock(const std::string& path, const std::string& where, u64 offset,
+                          u64 file_size, u64 expected_bytes) {
+  if (file_size < offset + 8)
+    throw RunError(where + "truncated: the binary_compressed block's two sizes are missing");
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(offset));
+  unsigned char b[8] = {};
+  in.read(reinterpret_cast<char*>(b), 8);
+  if (in.gcount() != 8)
+    throw RunError(where + "truncated: the binary_compressed block's two sizes are missing");
+  auto le32 = [&](int at) {
+    return static_cast<u64>(b[at]) | static_cast<u64>(b[at + 1]) << 8 |
+           static_cast<u64>(b[at + 2]) << 16 | static_cast<u64>(b[at + 3]) << 24;
+  };
+  const u64 compressed = le32(0), uncompressed = le32(4);
+  const u64 available = file_size - offset - 8;
+  if (compressed > available)
+    throw RunError(where + "truncated: the binary_compressed block announces " +
+                   std::to_string(compressed) + " compressed bytes, but only " +
+                   std::to_string(available) + " follow");
+  if (uncompressed != expected_bytes)
+    throw RunError(where + "the binary_compressed block announces " +
+                   std::to_string(uncompressed) + " uncompressed bytes where the header's points need " +
+                   std::to_string(expected_bytes));
+}
+
 }  // namespace
 
 void checkPcdHeaderText(const std::string& path, const std::string& where) {
@@ -299,6 +328,7 @@ void checkPcdHeaderText(const std::string& path, const std::string& where) {
   std::vector<u64> sizes, counts;
   std::size_t fields = 0;
   u64 points = 0, width = 0, height = 0;
+  u64 compressed_at = 0;  // offset of the binary_compressed block's two sizes
   auto record = [&] {
     u64 r = 0;
     for (std::size_t i = 0; i < fields; ++i)
@@ -372,8 +402,10 @@ void checkPcdHeaderText(const std::string& path, const std::string& where) {
     } else if (startsWith("VIEWPOINT")) {
       continue;
     } else if (startsWith("DATA")) {
-      if (t.size() >= 2 && t[1].rfind("binary_compressed", 0) == 0)
+      if (t.size() >= 2 && t[1].rfind("binary_compressed", 0) == 0) {
         factor = 100;
+        compressed_at = pos;
+      }
       else if (t.size() >= 2 && t[1].rfind("binary", 0) == 0)
         factor = 1;
       break;
@@ -384,6 +416,10 @@ void checkPcdHeaderText(const std::string& path, const std::string& where) {
   if (saturatingMul(width, height) != 0)
     checkFits(saturatingMul(width, height), "points");
   checkFits(points, "points");
+  if (compressed_at != 0)
+    checkCompressedBlock(path, where, compressed_at, file_size,
+                         saturatingMul(points != 0 ? points : saturatingMul(width, height),
+                                       record()));
 }
 
 std::size_t fieldTypeSize(std::uint8_t datatype) {
