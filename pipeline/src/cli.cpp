@@ -128,6 +128,7 @@ int dispatch(const std::vector<std::string>& args, std::ostream& out) {
   if (command == "validate") {
     const ConfigArgs parsed = parseConfigArgs(args, false);
     PipelineConfig config = loadConfig(parsed.config, parsed.overrides);
+    checkConfigFiles(config);
     out << parsed.config << ": valid, " << config.stages.size() << " stages\n";
     return kSuccess;
   }

@@ -2,6 +2,7 @@
 
 #include "slipfit/pipeline/errors.h"
 
+#include "file_checks.h"
 #include "header_guard.h"
 
 #include <pcl/PCLPointField.h>
@@ -280,15 +281,8 @@ bool hostIsLittleEndian() {
 
 PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report) {
   const std::string where = "input '" + path + "': ";
+  detail::checkReadableFile(path, where, "a point cloud file");
   std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (!fs::exists(status))
-    throw RunError(where + "no such file");
-  if (fs::is_directory(status))
-    throw RunError(where + "is a directory, not a point cloud file");
-  if (!fs::is_regular_file(status))
-    throw RunError(where +
-                   "not a regular file (a FIFO, socket or device would block or never end)");
   const std::string ext = lowerExtension(path);
   if (ext != ".ply" && ext != ".pcd")
     throw RunError(where + "unsupported file type '" + ext + "' (expected .ply or .pcd)");

@@ -4,6 +4,8 @@
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/registry.h"
 
+#include "file_checks.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
@@ -43,14 +45,11 @@ namespace {
 class Loader {
  public:
   Loader(std::string path, const std::vector<std::string>& overrides) : path_(std::move(path)) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path_, ec))
-      fail("config '" + path_ + "': no such file");
-    if (std::filesystem::is_directory(path_, ec))
-      fail("config '" + path_ + "': is a directory, not a YAML file");
-    if (!std::filesystem::is_regular_file(path_, ec))
-      fail("config '" + path_ +
-           "': not a regular file (a FIFO, socket or device would block or never end)");
+    try {
+      detail::checkReadableFile(path_, "config '" + path_ + "': ", "a YAML file");
+    } catch (const RunError& e) {
+      fail(e.what());
+    }
     try {
       root_ = YAML::LoadFile(path_);
     } catch (const YAML::ParserException& e) {
@@ -276,6 +275,33 @@ PipelineConfig loadConfig(const std::string& path, const std::vector<std::string
   } catch (const YAML::Exception& e) {
     // Anything yaml-cpp throws past the checks above is still a config problem.
     throw ConfigError(path + ": " + e.what());
+  }
+}
+
+void checkConfigFiles(const PipelineConfig& config) {
+  namespace fs = std::filesystem;
+  if (!config.input.path.empty())
+    detail::checkReadableFile(config.input.path,
+                              "input '" + config.input.path + "': ", "a point cloud file");
+  detail::checkOutputDir(config.output.dir);
+  std::vector<std::pair<std::string, std::string>> outputs;  // name, who writes it
+  if (!config.output.cloud.empty())
+    outputs.emplace_back(config.output.cloud, "output.cloud");
+  for (const auto& s : config.stages)
+    for (const auto& name : s.stage->outputFiles())
+      outputs.emplace_back(name, "stage '" + s.tag + "' (" + s.type + ")");
+  std::map<std::string, std::string> by_name;
+  for (const auto& [name, who] : outputs) {
+    const auto [it, fresh] = by_name.emplace(name, who);
+    if (!fresh)
+      throw ConfigError(config.path + ": " + it->second + " and " + who + " both write '" + name +
+                        "' in output.dir; give each its own name");
+    const fs::path final_path = fs::path(config.output.dir) / name;
+    std::error_code ec;
+    if (!config.input.path.empty() && fs::equivalent(final_path, config.input.path, ec))
+      throw RunError("output '" + final_path.string() + "' (" + who + ") is the input '" +
+                     config.input.path +
+                     "': nothing is written over it; choose another name or output.dir");
   }
 }
 

@@ -312,8 +312,8 @@ void checkCompressedBlock(const std::string& path, const std::string& where, u64
                    std::to_string(compressed) + " compressed bytes, but only " +
                    std::to_string(available) + " follow");
   if (uncompressed != expected_bytes)
-    throw RunError(where + "the binary_compressed block announces " +
-                   std::to_string(uncompressed) + " uncompressed bytes where the header's points need " +
+    throw RunError(where + "the binary_compressed block announces " + std::to_string(uncompressed) +
+                   " uncompressed bytes where the header's points need " +
                    std::to_string(expected_bytes));
 }
 
@@ -405,8 +405,7 @@ void checkPcdHeaderText(const std::string& path, const std::string& where) {
       if (t.size() >= 2 && t[1].rfind("binary_compressed", 0) == 0) {
         factor = 100;
         compressed_at = pos;
-      }
-      else if (t.size() >= 2 && t[1].rfind("binary", 0) == 0)
+      } else if (t.size() >= 2 && t[1].rfind("binary", 0) == 0)
         factor = 1;
       break;
     } else {
@@ -417,9 +416,9 @@ void checkPcdHeaderText(const std::string& path, const std::string& where) {
     checkFits(saturatingMul(width, height), "points");
   checkFits(points, "points");
   if (compressed_at != 0)
-    checkCompressedBlock(path, where, compressed_at, file_size,
-                         saturatingMul(points != 0 ? points : saturatingMul(width, height),
-                                       record()));
+    checkCompressedBlock(
+        path, where, compressed_at, file_size,
+        saturatingMul(points != 0 ? points : saturatingMul(width, height), record()));
 }
 
 std::size_t fieldTypeSize(std::uint8_t datatype) {

@@ -2,8 +2,16 @@
 
 #include "slipfit/pipeline/errors.h"
 
+#include "file_checks.h"
+#include "interrupt_cleanup.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
@@ -12,10 +20,51 @@ namespace slipfit::pipeline {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+/// The mode a new file gets from open(2) with 0666 and the process's umask.
+mode_t defaultFileMode() {
+  static const mode_t mode = [] {
+    const mode_t mask = ::umask(0);
+    ::umask(mask);
+    return static_cast<mode_t>(0666 & ~mask);
+  }();
+  return mode;
+}
+
+/// SIGINT/SIGTERM held back while the renames run, so that the commit is never cut in half.
+class SignalsHeld {
+ public:
+  SignalsHeld() {
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGTERM);
+    ::pthread_sigmask(SIG_BLOCK, &set, &previous_);
+  }
+  ~SignalsHeld() { ::pthread_sigmask(SIG_SETMASK, &previous_, nullptr); }
+  SignalsHeld(const SignalsHeld&) = delete;
+  SignalsHeld& operator=(const SignalsHeld&) = delete;
+
+ private:
+  sigset_t previous_;
+};
+
+bool sameFile(const struct stat& a, const struct stat& b) {
+  return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+}
+
+}  // namespace
+
 OutputFiles::~OutputFiles() {
-  std::error_code ec;
-  for (const auto& [tmp, final_path] : pending_)
-    fs::remove(tmp, ec);
+  for (const auto& p : pending_) {
+    ::unlink(p.tmp.c_str());
+    detail::releaseTemporary(p.slot);
+  }
+}
+
+int OutputFiles::renameFile(const char* from, const char* to) {
+  return ::rename(from, to);
 }
 
 void OutputFiles::add(const std::string& name,
@@ -24,48 +73,131 @@ void OutputFiles::add(const std::string& name,
   fs::create_directories(dir_, ec);
   if (ec || !fs::is_directory(dir_))
     throw RunError("output.dir '" + dir_ + "': cannot create the directory (" +
-                   (ec ? ec.message() : std::string("not a directory")) + ")");
+                   (ec ? detail::errnoText(ec.value()) : std::string("not a directory")) + ")");
   const fs::path final_path = fs::path(dir_) / name;
+  for (const auto& p : pending_)
+    if (p.final_path == final_path.string())
+      throw RunError("output '" + final_path.string() +
+                     "' would be written twice (two outputs have the same name); give each its "
+                     "own name");
   for (const std::string& input : protected_)
     if (fs::equivalent(final_path, input, ec))
       throw RunError("output '" + final_path.string() + "' is the input '" + input +
                      "': nothing is written over it; choose another name or output.dir");
-  // Same directory, so that the final rename is atomic; the extension stays last so that writers
-  // that look at it (PLY, OFF) still recognise the format.
-  const fs::path tmp =
-      fs::path(dir_) / ("." + final_path.stem().string() + ".tmp" + std::to_string(::getpid()) +
-                        final_path.extension().string());
-  pending_.emplace_back(tmp.string(), final_path.string());
+
+  // A fresh name created exclusively (O_EXCL: never an existing file, never through a symlink
+  // planted there), in the output directory so that the final rename is atomic; the extension
+  // stays last so that writers that look at it (PLY, OFF) still recognise the format.
+  const std::string suffix = final_path.extension().string();
+  std::string pattern =
+      (fs::path(dir_) / ("." + final_path.stem().string() + ".tmp.XXXXXX")).string() + suffix;
+  const int fd = ::mkstemps(pattern.data(), static_cast<int>(suffix.size()));
+  if (fd < 0)
+    throw RunError("output '" + final_path.string() +
+                   "': cannot create a file in output.dir: " + detail::errnoText(errno));
+  Pending pending;
+  pending.tmp = pattern;
+  pending.final_path = final_path.string();
+  pending.slot = detail::registerTemporary(pending.tmp);
+  struct stat created = {};
+  const bool stat_ok = ::fstat(fd, &created) == 0 && ::fchmod(fd, defaultFileMode()) == 0;
+  ::close(fd);
+  pending_.push_back(pending);
+  if (!stat_ok)
+    throw RunError("output '" + final_path.string() + "': " + detail::errnoText(errno));
+  pending_.back().device = created.st_dev;
+  pending_.back().inode = created.st_ino;
   try {
-    write(tmp.string());
+    write(pending.tmp);
   } catch (const RunError&) {
     throw;
   } catch (const std::exception& e) {
     throw RunError("output '" + final_path.string() + "': " + e.what());
   }
-  if (!fs::exists(tmp, ec))
-    throw RunError("output '" + final_path.string() + "': the writer produced no file");
+  checkStillOurs(pending_.back());
+}
+
+void OutputFiles::checkStillOurs(const Pending& p) const {
+  struct stat now = {};
+  if (::lstat(p.tmp.c_str(), &now) != 0)
+    throw RunError("output '" + p.final_path + "': its temporary file '" + p.tmp + "' has gone (" +
+                   detail::errnoText(errno) + ")");
+  struct stat created = {};
+  created.st_dev = static_cast<dev_t>(p.device);
+  created.st_ino = static_cast<ino_t>(p.inode);
+  if (!S_ISREG(now.st_mode) || !sameFile(now, created))
+    throw RunError("output '" + p.final_path + "': its temporary file '" + p.tmp +
+                   "' was replaced by another file while it was written; nothing is committed");
 }
 
 void OutputFiles::addText(const std::string& name, const std::string& text) {
   add(name, [&](const std::string& path) {
-    std::ofstream out(path, std::ios::binary);
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    if (!out)
+      throw RunError("cannot open '" + path + "': " + detail::errnoText(errno));
     out << text;
     out.close();
     if (!out)
-      throw RunError("cannot write '" + path + "' (disk full?)");
+      throw RunError("cannot write '" + path + "': " + detail::errnoText(errno));
   });
 }
 
 std::vector<std::string> OutputFiles::commit() {
-  std::vector<std::string> written;
-  for (const auto& [tmp, final_path] : pending_) {
+  const SignalsHeld held;
+  // Everything that can be checked is checked before the first rename.
+  for (const auto& p : pending_) {
+    checkStillOurs(p);
     std::error_code ec;
-    fs::rename(tmp, final_path, ec);
-    if (ec)
-      throw RunError("output '" + final_path + "': cannot rename into place (" + ec.message() +
-                     ")");
-    written.push_back(final_path);
+    if (fs::is_directory(fs::symlink_status(p.final_path, ec)))
+      throw RunError("output '" + p.final_path + "' is a directory; nothing is committed");
+  }
+  // A file already at a final name is kept under a backup name (a hard link, else a rename)
+  // until every rename has succeeded, so that a failure can put everything back.
+  struct Step {
+    std::string backup;  // empty: nothing was at the final name
+    bool linked = false;
+    bool renamed = false;
+  };
+  std::vector<Step> steps(pending_.size());
+  auto rollBack = [&](const std::string& why) {
+    for (std::size_t j = steps.size(); j-- > 0;) {
+      const auto& p = pending_[j];
+      if (steps[j].backup.empty()) {
+        if (steps[j].renamed)
+          ::unlink(p.final_path.c_str());
+      } else if (steps[j].linked && !steps[j].renamed) {
+        ::unlink(steps[j].backup.c_str());  // the final name still holds the old file
+      } else {
+        ::rename(steps[j].backup.c_str(), p.final_path.c_str());
+      }
+    }
+    throw RunError(why + "; the earlier outputs were put back, nothing is committed");
+  };
+  for (std::size_t i = 0; i < pending_.size(); ++i) {
+    const auto& p = pending_[i];
+    struct stat existing = {};
+    if (::lstat(p.final_path.c_str(), &existing) == 0) {
+      std::string backup = p.tmp + ".previous";
+      if (::link(p.final_path.c_str(), backup.c_str()) == 0) {
+        steps[i].linked = true;
+      } else if (::rename(p.final_path.c_str(), backup.c_str()) != 0) {
+        rollBack("output '" + p.final_path + "': cannot keep the file it replaces (" +
+                 detail::errnoText(errno) + ")");
+      }
+      steps[i].backup = backup;
+    }
+    if (renameFile(p.tmp.c_str(), p.final_path.c_str()) != 0)
+      rollBack("output '" + p.final_path + "': cannot rename into place (" +
+               detail::errnoText(errno) + ")");
+    steps[i].renamed = true;
+  }
+  detail::noteOutputsCommitted();
+  std::vector<std::string> written;
+  for (std::size_t i = 0; i < pending_.size(); ++i) {
+    if (!steps[i].backup.empty())
+      ::unlink(steps[i].backup.c_str());
+    detail::releaseTemporary(pending_[i].slot);
+    written.push_back(pending_[i].final_path);
   }
   pending_.clear();
   return written;

@@ -129,6 +129,7 @@ std::size_t settleMissingNormals(const PipelineConfig& config, const ReadReport&
 
 std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& options,
                                      std::ostream& report_stream) {
+  checkConfigFiles(config);  // nothing runs when an output would replace the input
   NullBuffer null_buffer;
   std::ostream null_stream(&null_buffer);
   std::ostream& report = options.quiet ? null_stream : report_stream;

@@ -17,6 +17,7 @@ using ::testing::StartsWith;
 
 struct BadInput {
   std::string name, config, prefix, message, stdout_text;
+  bool validate = false;  // `slipfit validate` must fail the same way, before anything runs
   int exit = 1;
 };
 
@@ -34,6 +35,7 @@ std::vector<BadInput> catalogue() {
     b.name = c["name"].as<std::string>();
     b.config = c["config"].as<std::string>();
     b.prefix = c["prefix"] ? c["prefix"].as<std::string>() : "";
+    b.validate = c["validate"] && c["validate"].as<bool>();
     b.exit = c["exit"].as<int>();
     b.message = c["message"] ? c["message"].as<std::string>() : "";
     b.stdout_text = c["stdout"] ? c["stdout"].as<std::string>() : "";
@@ -53,6 +55,9 @@ TEST_P(BadInputs, OneLineExitCodeNoOutput) {
   std::string prefix = c.prefix;
   for (auto at = prefix.find("{dir}"); at != std::string::npos; at = prefix.find("{dir}"))
     prefix.replace(at, 5, dir);
+  std::string message = c.message;
+  for (auto at = message.find("{dir}"); at != std::string::npos; at = message.find("{dir}"))
+    message.replace(at, 5, dir);
   const std::string out = scratchDir("bad_" + c.name);
   const bool own_output =
       yaml.find("dir: /") != std::string::npos && yaml.find("output:") != std::string::npos;
@@ -67,9 +72,16 @@ TEST_P(BadInputs, OneLineExitCodeNoOutput) {
   }
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_THAT(r.err, StartsWith("slipfit: error: "));
-  EXPECT_THAT(r.err, HasSubstr(c.message));
+  EXPECT_THAT(r.err, HasSubstr(message));
   EXPECT_FALSE(std::filesystem::exists(out) && !std::filesystem::is_empty(out))
       << "a failed run left files in " << out;
+  if (c.validate) {
+    const CliResult v =
+        runSlipfit("validate '" + cfg + "'" + (own_output ? "" : " --set output.dir=" + out));
+    EXPECT_EQ(v.code, c.exit) << v.err;
+    EXPECT_EQ(std::count(v.err.begin(), v.err.end(), '\n'), 1) << v.err;
+    EXPECT_THAT(v.err, HasSubstr(message));
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Catalogue, BadInputs, ::testing::ValuesIn(catalogue()),

@@ -71,6 +71,8 @@ class PrimitiveFittingStage : public Stage {
     return {normals ? (kPoints | kNormals) : kPoints, 0u};
   }
 
+  std::vector<std::string> outputFiles() const override { return {report_}; }
+
   void run(PointData& data, RunContext& context) override {
     const std::size_t n = data.size();
     std::vector<double> weights(n, 1.0);

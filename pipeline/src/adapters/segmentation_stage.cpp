@@ -76,6 +76,13 @@ class SegmentationStage : public Stage {
 
   DataFlow flow() const override { return {kPoints | kNormals | kNeighborhoods, 0u}; }
 
+  std::vector<std::string> outputFiles() const override {
+    std::vector<std::string> names = {report_, segments_};
+    if (!render_.empty())
+      names.push_back(render_);
+    return names;
+  }
+
   void run(PointData& data, RunContext& context) override {
     const std::vector<double> local = data.numericField("slippage_type");
     if (local.size() != data.size())

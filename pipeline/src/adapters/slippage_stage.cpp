@@ -57,6 +57,12 @@ class SlippageStage : public Stage {
         0u};
   }
 
+  std::vector<std::string> outputFiles() const override {
+    if (mode_ == SlippageMode::whole)
+      return {report_};
+    return {};
+  }
+
   void run(PointData& data, RunContext& context) override {
     if (mode_ == SlippageMode::local)
       return runLocal(data, context);

@@ -92,6 +92,15 @@ class TorusSamplingStage : public Stage {
 
   DataFlow flow() const override { return {0u, kPoints | kNormals}; }
 
+  std::vector<std::string> outputFiles() const override {
+    std::vector<std::string> names;
+    if (mesh_)
+      names = {mesh_name_ + ".off", mesh_name_ + ".ply"};
+    if (naive_)
+      names.push_back(mesh_name_ + "_naive.off");
+    return names;
+  }
+
   void run(PointData& data, RunContext& context) override {
     TorusSamplingParameters p = p_;
     p.seed = context.seed;

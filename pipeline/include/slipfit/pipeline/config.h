@@ -62,6 +62,12 @@ struct PipelineConfig {
 /// seed or TAG.OPTION). Throws ConfigError.
 PipelineConfig loadConfig(const std::string& path, const std::vector<std::string>& overrides);
 
+/// The checks on the file system that `validate` and `run` make before anything runs (RunError,
+/// exit 1; ConfigError for two outputs of one name): the input is a readable regular file,
+/// output.dir exists as a directory or can be created, no two outputs share a name, and no
+/// output is the input. Paths are taken as given: relative ones from the working directory.
+void checkConfigFiles(const PipelineConfig& config);
+
 /// Checks that each stage's inputs are available when it runs, given the data bits the input
 /// provides. Returns "" or the problem.
 std::string checkDataFlow(const PipelineConfig& config, unsigned input_bits);

@@ -14,23 +14,39 @@ class OutputFiles {
   OutputFiles(const OutputFiles&) = delete;
   OutputFiles& operator=(const OutputFiles&) = delete;
   /// Removes the temporary files of an uncommitted run.
-  ~OutputFiles();
+  virtual ~OutputFiles();
 
   /// A file no output may replace (the input cloud): add() refuses a name that is it.
   void protect(const std::string& path) { protected_.push_back(path); }
-  /// Creates the directory if needed and calls \a write with a temporary path next to \a name.
-  /// Throws RunError when the directory cannot be created, the final path is a protected file,
-  /// or \a write fails.
+  /// Creates the directory if needed and calls \a write with a temporary path next to \a name:
+  /// a fresh file created exclusively (mkstemps: no existing file or symlink is followed) and
+  /// removed on SIGINT/SIGTERM. Throws RunError when the directory cannot be created, the
+  /// final path is a protected file or already an output of this run, or \a write fails.
   void add(const std::string& name, const std::function<void(const std::string& path)>& write);
   /// add() for a text file.
   void addText(const std::string& name, const std::string& text);
-  /// Renames every temporary file to its final name; returns the final paths.
+  /// Renames every temporary file to its final name, all or none: each temporary file is checked
+  /// first (still the regular file created for it, no final name a directory), files already at
+  /// the final names are kept aside until every rename has succeeded and put back if one fails.
+  /// SIGINT/SIGTERM wait until it is done. Returns the final paths.
   std::vector<std::string> commit();
 
+ protected:
+  /// rename(2); a test replaces it to make one rename fail.
+  virtual int renameFile(const char* from, const char* to);
+
  private:
+  struct Pending {
+    std::string tmp, final_path;
+    unsigned long long device = 0, inode = 0;  // of the file mkstemps created
+    int slot = -1;                             // in the interrupt cleanup's list
+  };
+  /// Throws RunError unless the temporary file is still the regular file created for it.
+  void checkStillOurs(const Pending& p) const;
+
   std::string dir_;
   std::vector<std::string> protected_;
-  std::vector<std::pair<std::string, std::string>> pending_;  // temporary, final
+  std::vector<Pending> pending_;
 };
 
 }  // namespace slipfit::pipeline

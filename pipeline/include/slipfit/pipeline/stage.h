@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace slipfit::pipeline {
 
@@ -47,6 +48,9 @@ class Stage {
   virtual void prepare() {}
   /// Valid after prepare().
   virtual DataFlow flow() const = 0;
+  /// Valid after prepare(): the names of the files run() adds to output.dir (those known before
+  /// it runs), so that `validate` can refuse two outputs of one name or an output over the input.
+  virtual std::vector<std::string> outputFiles() const { return {}; }
   /// Runs on \a data; throws on failure (the pipeline reports it and writes nothing).
   virtual void run(PointData& data, RunContext& context) = 0;
 };

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# SIGINT and SIGTERM while slipfit writes its outputs: exit 128 + the signal (130, 143), one error
+# line, and no file left in output.dir — neither the temporary files nor a partial output.
+# Usage: interrupt_test.sh SLIPFIT
+set -u
+slipfit=$1
+scratch=$(mktemp -d /tmp/slipfit_interrupt.XXXXXX)
+trap 'rm -rf "$scratch"' EXIT
+set -m  # job control: background jobs do not start with SIGINT ignored
+status=0
+for signal in INT TERM; do
+  out=$scratch/out
+  rm -rf "$out"
+  # Writing two million points as ascii PLY takes about a second: time to catch the write.
+  printf 'stages: [{type: torus_sampling, points: 2000000}]\noutput: {dir: %s, cloud: big.ply, format: ascii}\n' \
+    "$out" >"$scratch/big.yaml"
+  "$slipfit" run "$scratch/big.yaml" --quiet 2>"$scratch/err" &
+  pid=$!
+  seen=""
+  for _ in $(seq 1 3000); do  # up to 30 s
+    if compgen -G "$out/.big.tmp.*" >/dev/null; then
+      seen=yes
+      break
+    fi
+    sleep 0.01
+  done
+  if [ -z "$seen" ]; then
+    echo "FAIL ($signal): no temporary file appeared in $out"
+    kill -KILL "$pid" 2>/dev/null
+    status=1
+    continue
+  fi
+  kill "-$signal" "$pid"
+  wait "$pid"
+  code=$?
+  expected=$([ "$signal" = INT ] && echo 130 || echo 143)
+  left=$(ls -A "$out" 2>/dev/null)
+  lines=$(wc -l <"$scratch/err")
+  if [ "$code" != "$expected" ] || [ -n "$left" ] || [ "$lines" != 1 ] ||
+    ! grep -q '^slipfit: error: .*(SIG'"$signal"')' "$scratch/err"; then
+    echo "FAIL ($signal): exit $code (expected $expected), left in $out: '${left}', stderr:"
+    cat "$scratch/err"
+    status=1
+  else
+    echo "ok ($signal): exit $code, $out empty, $(cat "$scratch/err")"
+  fi
+done
+exit $status
