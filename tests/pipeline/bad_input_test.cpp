@@ -7,13 +7,23 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
+#include <fstream>
 
 namespace slipfit::testing {
 namespace {
 
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
+
+// Peak memory is measured with /usr/bin/time (installed by .ci/setup) except under the
+// sanitizers, whose shadow memory and quarantine are not the program's.
+#ifdef SLIPFIT_TESTS_SANITIZED
+constexpr bool kMeasureMemory = false;
+#else
+constexpr bool kMeasureMemory = true;
+#endif
 
 struct BadInput {
   std::string name, config, prefix, message, stdout_text;
@@ -62,8 +72,32 @@ TEST_P(BadInputs, OneLineExitCodeNoOutput) {
   const bool own_output =
       yaml.find("dir: /") != std::string::npos && yaml.find("output:") != std::string::npos;
   const std::string cfg = scratchFile("bad_" + c.name + ".yaml", yaml);
+  const std::string peak_file = scratchDir("bad_" + c.name + ".peak");
   const CliResult r =
-      runSlipfit("run '" + cfg + "'" + (own_output ? "" : " --set output.dir=" + out), prefix);
+      runSlipfit("run '" + cfg + "'" + (own_output ? "" : " --set output.dir=" + out), prefix,
+                 kMeasureMemory ? "/usr/bin/time -f %M -o '" + peak_file + "'" : "");
+  if (kMeasureMemory) {
+    // Issue 15's bound: peak memory under 64 × the input file's size + 200 MB.
+    std::uintmax_t file_bytes = 0;
+    try {
+      const YAML::Node node = YAML::Load(yaml);
+      std::error_code ec;
+      if (node.IsMap() && node["input"].IsMap() && node["input"]["path"])
+        file_bytes = std::filesystem::file_size(node["input"]["path"].as<std::string>(), ec);
+      if (ec)
+        file_bytes = 0;
+    } catch (const YAML::Exception&) {
+      // a case whose config is broken on purpose: no input read
+    }
+    std::ifstream peak(peak_file);
+    double peak_kb = -1;
+    for (std::string line; std::getline(peak, line);)
+      if (!line.empty() && std::isdigit(static_cast<unsigned char>(line[0])))
+        peak_kb = std::stod(line);  // the last line: "Command exited ..." comes first
+    ASSERT_GE(peak_kb, 0) << "no peak memory measured";
+    EXPECT_LE(peak_kb * 1024, 64.0 * static_cast<double>(file_bytes) + 200e6)
+        << "input of " << file_bytes << " bytes";
+  }
   EXPECT_EQ(r.code, c.exit) << r.err;
   if (c.exit == 0) {
     EXPECT_EQ(r.err, "");

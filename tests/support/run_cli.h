@@ -30,15 +30,17 @@ inline std::string slurp(const std::string& path) {
 }
 
 /// Runs `slipfit ARGS` (a shell-quoted string) with the source tree as working directory, after
-/// the shell commands \a prefix (e.g. "ulimit -f 20;").
-inline CliResult runSlipfit(const std::string& args, const std::string& prefix = "") {
+/// the shell commands \a prefix (e.g. "ulimit -f 20;"), through \a wrapper if given (e.g.
+/// "/usr/bin/time -f %M -o FILE").
+inline CliResult runSlipfit(const std::string& args, const std::string& prefix = "",
+                            const std::string& wrapper = "") {
   namespace fs = std::filesystem;
   fs::create_directories(kScratchDir);
   static int counter = 0;
   const std::string base = std::string(kScratchDir) + "/cli" + std::to_string(::getpid()) + "_" +
                            std::to_string(counter++);
-  const std::string command = prefix + std::string("cd '") + kSourceDir + "' && '" + kSlipfitExe +
-                              "' " + args + " > '" + base + ".out' 2> '" + base +
+  const std::string command = prefix + std::string("cd '") + kSourceDir + "' && " + wrapper + " '" +
+                              kSlipfitExe + "' " + args + " > '" + base + ".out' 2> '" + base +
                               ".err' < /dev/null";
   const int status = std::system(command.c_str());
   CliResult r;
