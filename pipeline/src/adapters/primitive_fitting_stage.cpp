@@ -10,9 +10,11 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <map>
 #include <ostream>
+#include <sstream>
 
 namespace slipfit::pipeline::adapters {
 
@@ -29,6 +31,19 @@ constexpr std::array<std::pair<FitType, std::string_view>, 6> kFitTypeNames{{
     {FitType::torus, kPrimitiveTypeNames[4].second},
 }};
 static_assert(static_cast<int>(FitType::torus) - 1 == static_cast<int>(PrimitiveType::torus));
+
+// auto, then RobustMethod's values in its order (robustMethod() relies on it).
+enum class FitRobust { automatic, none, irls, ransac };
+constexpr std::array<std::pair<FitRobust, std::string_view>, 4> kFitRobustNames{{
+    {FitRobust::automatic, "auto"},
+    {FitRobust::none, kRobustMethodNames[0].second},
+    {FitRobust::irls, kRobustMethodNames[1].second},
+    {FitRobust::ransac, kRobustMethodNames[2].second},
+}};
+static_assert(static_cast<int>(FitRobust::ransac) - 1 == static_cast<int>(RobustMethod::ransac));
+
+/// Below this share of the points a fit is reported as not describing the cloud.
+constexpr double kFewInliers = 0.5;
 
 class PrimitiveFittingStage : public Stage {
  public:
@@ -53,10 +68,11 @@ class PrimitiveFittingStage : public Stage {
     o.add("min_points", min_points_, "Labels with fewer points are reported, not fitted.")
         .unit("points")
         .range(3, 1e9);
-    o.add("robust", robust_.method, kRobustMethodNames,
-          "none: plain weighted fit; irls: Tukey-biweight reweighting; ransac: best of seeded "
-          "minimal-sample hypotheses, then irls. With auto, the type with the most inliers wins "
-          "(within 1 %, the simpler one).");
+    o.add("robust", robust_choice_, kFitRobustNames,
+          "auto: ransac for a whole-cloud fit (a scan holds more than one surface and outliers), "
+          "none per label; none: plain weighted fit; irls: Tukey-biweight reweighting; ransac: "
+          "best of seeded minimal-sample hypotheses, then irls. Robust with primitive auto: the "
+          "type with the most inliers wins (within 1 %, the simpler one).");
     o.add("robust_threshold", robust_.threshold,
           "Inlier distance of the robust fit (unset: 2.5 × the robust residual scale).")
         .unit("units")
@@ -72,6 +88,12 @@ class PrimitiveFittingStage : public Stage {
   }
 
   std::vector<std::string> outputFiles() const override { return {report_}; }
+
+  void prepare() override {
+    robust_.method = robust_choice_ == FitRobust::automatic
+                         ? (labels_.empty() ? RobustMethod::ransac : RobustMethod::none)
+                         : static_cast<RobustMethod>(static_cast<int>(robust_choice_) - 1);
+  }
 
   void run(PointData& data, RunContext& context) override {
     const std::size_t n = data.size();
@@ -133,12 +155,22 @@ class PrimitiveFittingStage : public Stage {
         throw RunError(record.fit.reason);
       if (record.fit.ok()) {
         record.inlier_distance = inlierDistance(points, normals, record);
+        int given = 0;
         for (Eigen::Index j = 0; j < m; ++j) {
           const double d = distance(points.col(j), record.fit.refined);
           fit_distance[members[static_cast<std::size_t>(j)]] = static_cast<float>(d);
+          given += w[j] > 0.0 ? 1 : 0;
           if (w[j] > 0.0 && d <= record.inlier_distance)
             ++record.inliers;
         }
+        record.extra["points"] = std::to_string(given);
+        if (record.inliers < kFewInliers * given)
+          record.extra["warning"] =
+              "only " + percent(record.inliers, given) + " of the points are inliers: the " +
+              (label < 0 ? std::string("cloud") : "label") + " is not one " +
+              std::string(primitiveTypeName(record.fit.type)) +
+              (robust_.method == RobustMethod::ransac ? ""
+                                                      : " (robust: ransac finds the largest one)");
       }
       records.push_back(std::move(record));
     }
@@ -157,9 +189,12 @@ class PrimitiveFittingStage : public Stage {
         continue;
       }
       context.report << primitiveTypeName(r.fit.type) << ", rms " << r.fit.rms_distance << ", "
-                     << r.inliers << "/" << r.fit.used_points << " inliers within "
+                     << r.inliers << "/" << r.extra.at("points") << " inliers within "
                      << r.inlier_distance << " (" << r.extra.at("inlier_tolerance") << "), loss "
                      << r.fit.loss_algebraic << " -> " << r.fit.loss_refined << "\n";
+      const auto warning = r.extra.find("warning");
+      if (warning != r.extra.end())
+        context.report << "fit " << r.id << ": warning: " << warning->second << "\n";
     }
     if (!context.outputs)
       throw RunError("no output directory for the report");
@@ -248,12 +283,15 @@ class PrimitiveFittingStage : public Stage {
     return best;
   }
 
+  static std::string percent(int part, int whole) {
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(1) << 100.0 * part / std::max(whole, 1) << " %";
+    return s.str();
+  }
+
   FitType type_ = FitType::automatic;
-  RobustOptions robust_ = [] {
-    RobustOptions o;
-    o.method = RobustMethod::none;
-    return o;
-  }();
+  FitRobust robust_choice_ = FitRobust::automatic;
+  RobustOptions robust_;  // method resolved in prepare()
   std::string labels_, weights_;
   FitOptions options_;
   std::optional<double> inlier_distance_;
