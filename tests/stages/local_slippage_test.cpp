@@ -32,7 +32,7 @@ TEST(LocalSlippage, PlanesAndCylindersWithModerateNeighborhoods) {
   const double f = fraction(testing::sampleCylinder(8000, Eigen::Vector3f::Zero(), 0.1f, 2.0f, 2),
                             60, SlippageType::cylinder);
   std::cout << "cylinder points classified as cylinder: " << f << "\n";
-  EXPECT_GT(f, 0.9);
+  EXPECT_EQ(f, 1.0);  // docs/THEORY.md §5: 100 %
 }
 
 TEST(LocalSlippage, NeedsNeighborhoods) {
