@@ -14,6 +14,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -124,6 +125,9 @@ struct Column {
   const std::uint8_t* base;
   std::size_t stride;
   std::size_t size;
+  /// A coordinate written in the input's frame: the float at base + this, as double when size is
+  /// 8 (else float).
+  std::optional<double> shift;
 };
 
 /// The fields a cloud is written with (header.fields, point_step, width; no data) and their
@@ -136,9 +140,23 @@ struct RowLayout {
   void pack(std::size_t first, std::size_t count, std::uint8_t* out) const {
     for (std::size_t i = 0; i < count; ++i) {
       std::uint8_t* row = out + i * header.point_step;
-      for (std::size_t c = 0; c < columns.size(); ++c)
-        std::memcpy(row + header.fields[c].offset,
-                    columns[c].base + (first + i) * columns[c].stride, columns[c].size);
+      for (std::size_t c = 0; c < columns.size(); ++c) {
+        const Column& column = columns[c];
+        const std::uint8_t* from = column.base + (first + i) * column.stride;
+        if (!column.shift) {
+          std::memcpy(row + header.fields[c].offset, from, column.size);
+          continue;
+        }
+        float local;
+        std::memcpy(&local, from, sizeof(float));
+        const double value = static_cast<double>(local) + *column.shift;
+        if (column.size == sizeof(double)) {
+          std::memcpy(row + header.fields[c].offset, &value, sizeof(double));
+        } else {
+          const auto narrow = static_cast<float>(value);
+          std::memcpy(row + header.fields[c].offset, &narrow, sizeof(float));
+        }
+      }
     }
   }
 };
@@ -158,9 +176,14 @@ RowLayout rowLayout(const PointData& data) {
   };
   const auto* first = reinterpret_cast<const std::uint8_t*>(cloud.data());
   const std::size_t ps = sizeof(pcl::PointNormal);
-  add("x", Field::FLOAT32, first + offsetof(pcl::PointNormal, x), ps);
-  add("y", Field::FLOAT32, first + offsetof(pcl::PointNormal, y), ps);
-  add("z", Field::FLOAT32, first + offsetof(pcl::PointNormal, z), ps);
+  // Coordinates go back to the input's frame, as double when the input's were.
+  const std::uint8_t coordinate = data.frame.double_coordinates ? Field::FLOAT64 : Field::FLOAT32;
+  add("x", coordinate, first + offsetof(pcl::PointNormal, x), ps);
+  add("y", coordinate, first + offsetof(pcl::PointNormal, y), ps);
+  add("z", coordinate, first + offsetof(pcl::PointNormal, z), ps);
+  for (int axis = 0; axis < 3; ++axis)
+    if (data.frame.double_coordinates || data.frame.shift[axis] != 0.0)
+      layout.columns[static_cast<std::size_t>(axis)].shift = data.frame.shift[axis];
   if (data.has_normals) {
     add("normal_x", Field::FLOAT32, first + offsetof(pcl::PointNormal, normal_x), ps);
     add("normal_y", Field::FLOAT32, first + offsetof(pcl::PointNormal, normal_y), ps);
@@ -278,6 +301,16 @@ bool hostIsLittleEndian() {
 }
 
 }  // namespace
+
+Eigen::Vector3d globalShift(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  const double extent = std::max((hi - lo).maxCoeff(), 1.0);
+  const double largest = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).maxCoeff();
+  if (!(largest > 16.0 * extent))
+    return Eigen::Vector3d::Zero();
+  const double step = std::pow(10.0, std::ceil(std::log10(extent)));
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  return (centre / step).array().round().matrix() * step;
+}
 
 PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report) {
   const std::string where = "input '" + path + "': ";
@@ -402,13 +435,25 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
 
   PointData data;
   data.has_normals = has_normals;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (const std::size_t i : keep) {
+    const Eigen::Vector3d p(value(i, fx), value(i, fy), value(i, fz));
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  data.frame.double_coordinates = fx->datatype == Field::FLOAT64 ||
+                                  fy->datatype == Field::FLOAT64 || fz->datatype == Field::FLOAT64;
+  if (data.frame.double_coordinates)
+    data.frame.shift = globalShift(lo, hi);
+  const Eigen::Vector3d& shift = data.frame.shift;
   // A sensor's view: an organized PCD, or one whose VIEWPOINT is not the identity at the origin.
   const bool posed = origin.head<3>().squaredNorm() > 0.0f ||
                      !orientation.coeffs().isApprox(Eigen::Quaternionf::Identity().coeffs());
   if (ext == ".pcd" && (blob.height > 1 || posed) && origin.allFinite() &&
       orientation.coeffs().allFinite() && orientation.norm() > 0.0f) {
     SensorPose sensor;
-    sensor.origin = origin.head<3>().cast<double>();
+    sensor.origin = origin.head<3>().cast<double>() - data.frame.shift;
     sensor.orientation = orientation.cast<double>().normalized();
     sensor.width = blob.width;
     sensor.height = blob.height;
@@ -421,9 +466,9 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   for (std::size_t j = 0; j < keep.size(); ++j) {
     const std::size_t i = keep[j];
     pcl::PointNormal& p = cloud[j];
-    p.x = static_cast<float>(value(i, fx));
-    p.y = static_cast<float>(value(i, fy));
-    p.z = static_cast<float>(value(i, fz));
+    p.x = static_cast<float>(value(i, fx) - shift.x());
+    p.y = static_cast<float>(value(i, fy) - shift.y());
+    p.z = static_cast<float>(value(i, fz) - shift.z());
     const bool normal = has_normals && normal_ok(i);
     if (normal) {
       p.normal_x = static_cast<float>(value(i, fnx));
@@ -463,6 +508,7 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
     report->dropped = n - keep.size();
     report->normals = has_normals;
     report->normals_missing = normals_missing;
+    report->largest_coordinate = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).maxCoeff();
     report->first_missing_normal = first_missing_normal;
     report->extra_fields.clear();
     for (const Field* f : extra)

@@ -11,28 +11,28 @@ void vec(YAML::Emitter& e, const char* key, const Eigen::Vector3d& v) {
     << YAML::EndSeq;
 }
 
-void parameters(YAML::Emitter& e, const Primitive& p) {
+void parameters(YAML::Emitter& e, const Primitive& p, const Eigen::Vector3d& shift) {
   std::visit(
       [&](const auto& s) {
         using T = std::decay_t<decltype(s)>;
         if constexpr (std::is_same_v<T, Plane>) {
           vec(e, "normal", s.normal);
-          e << YAML::Key << "d" << YAML::Value << s.d;
+          e << YAML::Key << "d" << YAML::Value << s.d - s.normal.dot(shift);  // n·(x − t) + d = 0
         } else if constexpr (std::is_same_v<T, Sphere>) {
-          vec(e, "center", s.center);
+          vec(e, "center", s.center + shift);
           e << YAML::Key << "radius" << YAML::Value << s.radius;
         } else if constexpr (std::is_same_v<T, Cylinder>) {
           vec(e, "axis", s.axis);
-          vec(e, "point", s.point);
+          vec(e, "point", s.point + shift);
           e << YAML::Key << "radius" << YAML::Value << s.radius;
         } else if constexpr (std::is_same_v<T, Torus>) {
           vec(e, "axis", s.axis);
-          vec(e, "center", s.center);
+          vec(e, "center", s.center + shift);
           e << YAML::Key << "major_radius" << YAML::Value << s.major_radius;
           e << YAML::Key << "minor_radius" << YAML::Value << s.minor_radius;
         } else {
           vec(e, "axis", s.axis);
-          vec(e, "apex", s.apex);
+          vec(e, "apex", s.apex + shift);
           e << YAML::Key << "half_angle" << YAML::Value << s.half_angle;
         }
       },
@@ -41,12 +41,15 @@ void parameters(YAML::Emitter& e, const Primitive& p) {
 
 }  // namespace
 
-std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const std::string& source) {
+std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const std::string& source,
+                           const Eigen::Vector3d& shift) {
   YAML::Emitter e;
   e.SetDoublePrecision(17);
   e << YAML::BeginMap;
   e << YAML::Key << "source" << YAML::Value << source;
   e << YAML::Key << "units" << YAML::Value << "lengths in the cloud's units, angles in radians";
+  if (shift != Eigen::Vector3d::Zero())
+    vec(e, "global_shift", shift);  // subtracted while computing; the positions below include it
   e << YAML::Key << "primitives" << YAML::Value << YAML::BeginSeq;
   for (const auto& r : records) {
     e << YAML::BeginMap;
@@ -76,9 +79,9 @@ std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const st
       if (sl.axis)
         vec(e, "slippage_axis", *sl.axis);
       if (sl.point)
-        vec(e, "slippage_point", *sl.point);
+        vec(e, "slippage_point", *sl.point + shift);
       if (sl.center)
-        vec(e, "slippage_center", *sl.center);
+        vec(e, "slippage_center", *sl.center + shift);
       if (sl.normal)
         vec(e, "slippage_normal", *sl.normal);
       if (sl.pitch)
@@ -95,9 +98,9 @@ std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const st
         else if (sl.normal)
           vec(e, "normal", *sl.normal);
         if (sl.point)
-          vec(e, "point", *sl.point);
+          vec(e, "point", *sl.point + shift);
         else if (sl.center)
-          vec(e, "point", *sl.center);
+          vec(e, "point", *sl.center + shift);
         if (sl.axis)
           e << YAML::Key << "pitch" << YAML::Value << sl.pitch.value_or(0.0);
         e << YAML::EndMap;
@@ -107,7 +110,7 @@ std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const st
     } else if (!r.fit.ok()) {
       e << YAML::Key << "reason" << YAML::Value << r.fit.reason;
     } else {
-      parameters(e, r.fit.refined);
+      parameters(e, r.fit.refined, shift);
       e << YAML::Key << "inliers" << YAML::Value << r.inliers;
       e << YAML::Key << "inlier_distance" << YAML::Value << r.inlier_distance;
       e << YAML::Key << "rms_distance" << YAML::Value << r.fit.rms_distance;
@@ -117,7 +120,7 @@ std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const st
       e << YAML::Key << "loss_refined" << YAML::Value << r.fit.loss_refined;
       e << YAML::Key << "reciprocal_condition" << YAML::Value << r.fit.reciprocal_condition;
       e << YAML::Key << "algebraic" << YAML::Value << YAML::BeginMap;
-      parameters(e, r.fit.algebraic);
+      parameters(e, r.fit.algebraic, shift);
       e << YAML::EndMap;
     }
     for (const auto& [k, v] : r.extra)

@@ -168,10 +168,17 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
       const SensorPose& s = *data.sensor;
       if (s.height > 1)
         report << ", organized " << s.width << " x " << s.height;
-      report << ", sensor at (" << s.origin.x() << ", " << s.origin.y() << ", " << s.origin.z()
-             << ")";
+      const Eigen::Vector3d at = s.origin + data.frame.shift;
+      report << ", sensor at (" << at.x() << ", " << at.y() << ", " << at.z() << ")";
     }
     report << "\n";
+    if (data.frame.shift != Eigen::Vector3d::Zero()) {
+      const Eigen::Vector3d& t = data.frame.shift;
+      report << std::setprecision(17) << "input: global shift (" << t.x() << ", " << t.y() << ", "
+             << t.z() << ") subtracted: double coordinates up to " << read.largest_coordinate
+             << std::setprecision(6)
+             << " would lose their detail in float; outputs are written in the input's frame\n";
+    }
     reportStep(report, "read", start, memory, points);
     input_bits = data.available();
   }

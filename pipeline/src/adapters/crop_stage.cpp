@@ -67,7 +67,9 @@ class CropStage : public Stage {
       pass.setFilterFieldName(name);
       const double lo = min_.value_or(-std::numeric_limits<float>::max());
       const double hi = max_.value_or(std::numeric_limits<float>::max());
-      pass.setFilterLimits(static_cast<float>(lo), static_cast<float>(hi));
+      // The limits are in the input's frame; the points are at its coordinates − frame.shift.
+      const double t = data.frame.shift[static_cast<int>(field_) - 1];
+      pass.setFilterLimits(static_cast<float>(lo - t), static_cast<float>(hi - t));
       pass.setNegative(negative_ && !box_min_);
       pass.filter(kept);
       why << name << " in [" << lo << ", " << hi << "]";
@@ -77,8 +79,10 @@ class CropStage : public Stage {
       box.setInputCloud(data.cloud);
       if (field_ != Axis::none)
         box.setIndices(pcl::make_shared<pcl::Indices>(kept));
-      box.setMin(Eigen::Vector4f(box_min_->x(), box_min_->y(), box_min_->z(), 1.0f));
-      box.setMax(Eigen::Vector4f(box_max_->x(), box_max_->y(), box_max_->z(), 1.0f));
+      const Eigen::Vector3f low = (box_min_->cast<double>() - data.frame.shift).cast<float>();
+      const Eigen::Vector3f high = (box_max_->cast<double>() - data.frame.shift).cast<float>();
+      box.setMin(Eigen::Vector4f(low.x(), low.y(), low.z(), 1.0f));
+      box.setMax(Eigen::Vector4f(high.x(), high.y(), high.z(), 1.0f));
       box.setNegative(negative_ && field_ == Axis::none);
       box.filter(kept);
       why << (field_ != Axis::none ? ", " : "") << "inside the box [" << box_min_->transpose()

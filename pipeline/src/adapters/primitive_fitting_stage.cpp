@@ -198,7 +198,7 @@ class PrimitiveFittingStage : public Stage {
     }
     if (!context.outputs)
       throw RunError("no output directory for the report");
-    context.outputs->addText(report_, primitivesYaml(records, data_source_));
+    context.outputs->addText(report_, primitivesYaml(records, data_source_, data.frame.shift));
   }
 
  private:

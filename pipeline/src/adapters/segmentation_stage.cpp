@@ -128,7 +128,7 @@ class SegmentationStage : public Stage {
     data.setField({"green", std::move(green)});
     data.setField({"blue", std::move(blue)});
 
-    writeReport(result, *data.cloud, context);
+    writeReport(result, *data.cloud, data.frame.shift, context);
     writeClouds(data, result, context);
     if (!render_.empty())
       writeRender(data, context);
@@ -179,7 +179,7 @@ class SegmentationStage : public Stage {
   }
 
   void writeReport(const SegmentationResult& result, const pcl::PointCloud<pcl::PointNormal>& cloud,
-                   RunContext& context) const {
+                   const Eigen::Vector3d& shift, RunContext& context) const {
     std::vector<PrimitiveRecord> records;
     for (std::size_t k = 0; k < result.segments.size(); ++k) {
       const Segment& s = result.segments[k];
@@ -200,13 +200,14 @@ class SegmentationStage : public Stage {
       r.extra["seed_slippage_type"] = std::string(slippageTypeName(s.seed_type));
       records.push_back(std::move(r));
     }
-    context.outputs->addText(report_, primitivesYaml(records, "slipfit segmentation"));
+    context.outputs->addText(report_, primitivesYaml(records, "slipfit segmentation", shift));
   }
 
   void writeClouds(const PointData& data, const SegmentationResult& result,
                    RunContext& context) const {
     PointData view;
     view.cloud = data.cloud;
+    view.frame = data.frame;
     view.has_normals = true;
     view.extra = data.extra;  // the input's own fields (colour, intensity, labels) come along
     for (const char* name : {"label", "primitive", "red", "green", "blue"})
@@ -218,6 +219,7 @@ class SegmentationStage : public Stage {
     for (std::size_t k = 0; k < result.segments.size(); ++k) {
       PointData part;
       part.has_normals = true;
+      part.frame = data.frame;
       for (int i : result.segments[k].indices)
         part.cloud->push_back((*data.cloud)[static_cast<std::size_t>(i)]);
       context.outputs->add("segment_" + std::to_string(k) + ".ply",
@@ -242,12 +244,13 @@ class SegmentationStage : public Stage {
     }
     // A sensor's view is rendered from the sensor unless the config places the camera.
     RenderParameters camera = render_parameters_;
+    if (camera.eye)
+      *camera.eye -= data.frame.shift;  // the config's eye is in the input's frame
     if (!eye_ && data.sensor)
       useSensorCamera(camera, data.sensor->origin, data.sensor->orientation, x);
     const std::vector<std::uint8_t> image = renderSplats(x, rgb, nn, camera);
     context.outputs->add(render_, [&](const std::string& path) {
-      pcl::io::saveRgbPNGFile(path, image.data(), render_parameters_.width,
-                              render_parameters_.height);
+      pcl::io::saveRgbPNGFile(path, image.data(), camera.width, camera.height);
     });
   }
 

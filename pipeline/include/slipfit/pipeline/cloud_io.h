@@ -25,10 +25,17 @@ struct ReadReport {
   std::size_t normals_missing = 0;
   std::size_t first_missing_normal = 0;  ///< the file's index of the first such point
   std::string extra_fields;  ///< the names of the fields carried through, comma separated
+  double largest_coordinate = 0.0;  ///< the largest |x|, |y| or |z| kept
 };
 
+/// The global shift for double coordinates within [\a lo, \a hi]: zero when float keeps them
+/// (the largest |coordinate| under 16 × the extent, at least 1: float's step there is at most
+/// 16 × its step across the data), else the box's centre rounded to a multiple of the power of
+/// ten at or above the extent, so that the shifted coordinates stay within about ± that power.
+Eigen::Vector3d globalShift(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
+
 /// Reads a .ply (ascii or binary) or .pcd file. Coordinates and normals of any numeric type
-/// become float; normals are recognised as normal_x/normal_y/normal_z (PLY nx/ny/nz); every
+/// become float; double coordinates first lose their globalShift (PointData::frame); normals are recognised as normal_x/normal_y/normal_z (PLY nx/ny/nz); every
 /// other field is kept in PointData::extra with its own type. Points with a non-finite coordinate
 /// are dropped (NanPolicy::skip) or refused (error); a point whose given normal is non-finite or
 /// zero is kept with a NaN normal and counted in the report (the caller decides: see runner.cpp).
@@ -37,7 +44,8 @@ struct ReadReport {
 PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report = nullptr);
 
 /// Writes every point with its normals (when present), curvature (when computed), the extra fields
-/// and the stage fields as one PLY vertex element, in binary or ascii. Writes \a path directly;
+/// and the stage fields as one PLY vertex element, in binary or ascii; coordinates in the input's
+/// frame (+ frame.shift; double when the input's were). Writes \a path directly;
 /// use OutputFiles for the all-or-nothing behaviour.
 void writeCloudPly(const PointData& data, const std::string& path, bool binary);
 

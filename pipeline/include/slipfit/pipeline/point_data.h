@@ -40,6 +40,15 @@ struct SensorPose {
   std::uint32_t width = 0, height = 0;  ///< organized: height > 1
 };
 
+/// The input's coordinate frame. Double-precision input far from the origin (georeferenced
+/// LiDAR: x + 5e5, y + 5.4e6) is held at its coordinates minus `shift`, where float keeps its
+/// detail, as CloudCompare's and PDAL's global shift; every output is written back in the input's
+/// frame (coordinates + shift, as double when the input had double coordinates).
+struct CoordinateFrame {
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+  bool double_coordinates = false;  ///< the input stored x, y, z as double: the outputs do too
+};
+
 /// The pipeline's state. Every per-point array is aligned with `cloud`.
 struct PointData {
   /// Coordinates, and normals + curvature when has_normals (else NaN).
@@ -48,6 +57,8 @@ struct PointData {
   /// Set when the input is a sensor's view (an organized cloud, or a PCD with a VIEWPOINT other
   /// than the identity at the origin): the picture is then taken from the sensor.
   std::optional<SensorPose> sensor;
+  /// Where `cloud`'s coordinates are: the input's frame minus frame.shift.
+  CoordinateFrame frame;
   /// curvature holds a meaningful value (set by normal estimation).
   bool has_curvature = false;
   /// The input's other fields (colour, intensity, ...), carried through unchanged.

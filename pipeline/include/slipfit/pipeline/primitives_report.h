@@ -25,6 +25,9 @@ struct PrimitiveRecord {
 };
 
 /// The YAML text of the report (parameters of the refined fit; the closed form under `algebraic`).
-std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const std::string& source);
+/// Positions are written in the input's frame: the fits' + \a shift (PointData::frame), which is
+/// listed as `global_shift` when it is not zero.
+std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const std::string& source,
+                           const Eigen::Vector3d& shift = Eigen::Vector3d::Zero());
 
 }  // namespace slipfit::pipeline
