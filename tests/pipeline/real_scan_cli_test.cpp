@@ -8,6 +8,8 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <pcl/features/normal_3d.h>
+#include <pcl/search/kdtree.h>
 #include <pcl/segmentation/sac_segmentation.h>
 #include <yaml-cpp/yaml.h>
 
@@ -125,6 +127,108 @@ INSTANTIATE_TEST_SUITE_P(Scans, RealScanCli,
                          ::testing::Values(Scan{"milk_cartoon_all_small_clorox.pcd", 0.01},
                                            Scan{"office1.pcd", 0.0}),
                          scanName);
+
+// The tabletop target of issue 14, as PCL's cylinder tutorial runs it: crop the scan around a
+// standing object, then the demo's stages. The bleach bottle of the milk-carton scan must be one
+// cylinder segment, its radius within 2 % of PCL's SACSegmentationFromNormals cylinder on the same
+// points (the tutorial's settings: normal weight 0.1, 10,000 iterations, 5 cm inlier distance,
+// radius 0–0.1 m; measured 0.0624 m against PCL's 0.0619, 0.7 %, 9,520 of 9,632 points its
+// inliers; at 1 cm or less PCL's fit keeps a third of the points or fewer and its radius moves
+// by 5 %) and its axis within 2° of the table's normal (measured 0.20°, PCL's 0.41°).
+TEST(RealScanCli, CroppedTabletopGivesTheBottleAsOneCylinderAgreeingWithPcl) {
+#ifdef SLIPFIT_TESTS_SANITIZED
+  GTEST_SKIP() << "a whole-scan run of the demo is left to the Release suite";
+#endif
+  const std::string path = std::string(kSharedDataDir) + "/pcl/milk_cartoon_all_small_clorox.pcd";
+  if (!std::filesystem::exists(path))
+    GTEST_SKIP() << path << " is absent: the tabletop check needs ../shared/data/pcl";
+  const std::string out = scratchDir("tabletop_crop");
+  // The box holds the bottle (x 0.12–0.24, y −0.17–0.03, z 0.65–0.79 in the camera's frame)
+  // and the table around its foot.
+  const std::string config = scratchFile(
+      "tabletop_crop.yaml",
+      "input: {path: " + path +
+          "}\nstages:\n"
+          "  - {type: crop, box_min: [0.05, -0.25, 0.55], box_max: [0.32, 0.10, 0.90]}\n"
+          "  - {type: neighborhood_selection, k: 12}\n"
+          "  - {type: normal_estimation, orientation: viewpoint, viewpoint: [0, 0, 0]}\n"
+          "  - {type: slippage_classification, mode: local}\n"
+          "  - {type: segmentation, render: \"\"}\n"
+          "output: {dir: " +
+          out + "}\n");
+  const CliResult r = runSlipfit("run " + config);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const pipeline::PointData cloud =
+      pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
+  const YAML::Node report = YAML::LoadFile(out + "/primitives.yaml")["primitives"];
+  // The largest plane is the table, the largest cylinder the bottle.
+  YAML::Node table, bottle;
+  int table_points = 0, bottle_points = 0;
+  for (const YAML::Node p : report) {
+    const std::string type = p["type"].as<std::string>();
+    const int points = p["points"].as<int>();
+    if (type == "plane" && points > table_points) {
+      table = p;
+      table_points = points;
+    }
+    if (type == "cylinder" && points > bottle_points) {
+      bottle = p;
+      bottle_points = points;
+    }
+  }
+  ASSERT_GT(table_points, 0) << "no plane segment";
+  ASSERT_GT(bottle_points, 0) << "no cylinder segment";
+  const auto vec = [](const YAML::Node& n) {
+    return Eigen::Vector3d(n[0].as<double>(), n[1].as<double>(), n[2].as<double>());
+  };
+  const auto angle = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) * 180.0 /
+           3.14159265358979323846;
+  };
+
+  // PCL's cylinder on the bottle segment's points, normals from PCL (k = 50, as the tutorial).
+  const int label = bottle["label"].as<int>();
+  const std::vector<double> labels = cloud.numericField("label");
+  auto points = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (static_cast<int>(labels[i]) == label) {
+      const auto& p = (*cloud.cloud)[i];
+      points->push_back(pcl::PointXYZ(p.x, p.y, p.z));
+    }
+  ASSERT_GT(points->size(), 5000u) << "the bottle holds about 9,700 points";
+  auto normals = pcl::make_shared<pcl::PointCloud<pcl::Normal>>();
+  pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> estimation;
+  estimation.setSearchMethod(pcl::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
+  estimation.setInputCloud(points);
+  estimation.setKSearch(50);
+  estimation.compute(*normals);
+  pcl::SACSegmentationFromNormals<pcl::PointXYZ, pcl::Normal> sac;
+  sac.setOptimizeCoefficients(true);
+  sac.setModelType(pcl::SACMODEL_CYLINDER);
+  sac.setMethodType(pcl::SAC_RANSAC);
+  sac.setNormalDistanceWeight(0.1);
+  sac.setMaxIterations(10000);
+  sac.setDistanceThreshold(0.05);
+  sac.setRadiusLimits(0, 0.1);
+  sac.setInputCloud(points);
+  sac.setInputNormals(normals);
+  pcl::PointIndices inliers;
+  pcl::ModelCoefficients pcl_cylinder;
+  sac.segment(inliers, pcl_cylinder);
+  ASSERT_EQ(pcl_cylinder.values.size(), 7u);
+  const double pcl_radius = pcl_cylinder.values[6];
+  const double radius = bottle["radius"].as<double>();
+  const double tilt = angle(vec(bottle["axis"]), vec(table["normal"]));
+  std::cout << "bottle: " << bottle["points"].as<int>() << " points, radius " << radius
+            << " (PCL's " << pcl_radius << ", " << inliers.indices.size() << " inliers), axis "
+            << tilt << "° from the table's normal; PCL's axis "
+            << angle(Eigen::Vector3d(pcl_cylinder.values[3], pcl_cylinder.values[4],
+                                     pcl_cylinder.values[5]),
+                     vec(table["normal"]))
+            << "°\n";
+  EXPECT_NEAR(radius, pcl_radius, 0.02 * pcl_radius);
+  EXPECT_LT(tilt, 2.0);
+}
 
 }  // namespace
 }  // namespace slipfit::testing
