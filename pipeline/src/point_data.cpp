@@ -1,5 +1,7 @@
 #include "slipfit/pipeline/point_data.h"
 
+#include <pcl/common/io.h>
+
 #include <algorithm>
 #include <cstring>
 
@@ -90,45 +92,41 @@ namespace slipfit::pipeline {
 
 void PointData::keepOnly(const std::vector<char>& keep) {
   const std::size_t n = size();
-  const auto m = static_cast<std::size_t>(
-      std::count_if(keep.begin(), keep.begin() + n, [](char k) { return k != 0; }));
+  pcl::Indices kept;
+  kept.reserve(static_cast<std::size_t>(
+      std::count_if(keep.begin(), keep.begin() + n, [](char k) { return k != 0; })));
+  for (std::size_t i = 0; i < n; ++i)
+    if (keep[i])
+      kept.push_back(static_cast<pcl::index_t>(i));
+  keepOnly(kept);
+}
+
+void PointData::keepOnly(const pcl::Indices& kept) {
+  const std::size_t n = size();
+  const std::size_t m = kept.size();
   if (m == n)
     return;
 
   // Compacted vectors give their memory back (shrink_to_fit): after a subsample the full cloud's
   // worth of capacity would otherwise stay allocated through every later stage.
   auto compact = [&](auto& vec) {
-    std::size_t j = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (keep[i])
-        vec[j++] = vec[i];
+    for (std::size_t j = 0; j < m; ++j)
+      vec[j] = vec[static_cast<std::size_t>(kept[j])];  // kept[j] >= j: ascending
     vec.resize(m);
     vec.shrink_to_fit();
   };
   // A new cloud rather than the old one compacted: the cloud may be shared (the subsample
-  // stage keeps the full one).
-  auto kept = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-  kept->points.reserve(m);
-  for (std::size_t i = 0; i < n; ++i)
-    if (keep[i])
-      kept->points.push_back((*cloud)[i]);
-  kept->width = static_cast<std::uint32_t>(m);
-  kept->height = 1;
-  kept->header = cloud->header;
-  kept->is_dense = cloud->is_dense;
-  kept->sensor_origin_ = cloud->sensor_origin_;
-  kept->sensor_orientation_ = cloud->sensor_orientation_;
-  cloud = std::move(kept);
+  // stage keeps the full one). PCL's copy by indices, as a PCL filter's user would call it.
+  auto copy = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  pcl::copyPointCloud(*cloud, kept, *copy);
+  copy->is_dense = cloud->is_dense;
+  cloud = std::move(copy);
   for (auto& f : fields)
     std::visit(compact, f.values);
   if (extra.width == n && extra.point_step > 0) {
-    std::size_t j = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (keep[i]) {
-        std::copy_n(extra.data.begin() + i * extra.point_step, extra.point_step,
-                    extra.data.begin() + j * extra.point_step);
-        ++j;
-      }
+    for (std::size_t j = 0; j < m; ++j)
+      std::copy_n(extra.data.begin() + static_cast<std::ptrdiff_t>(kept[j]) * extra.point_step,
+                  extra.point_step, extra.data.begin() + j * extra.point_step);
     extra.width = static_cast<std::uint32_t>(m);
     extra.row_step = extra.point_step * extra.width;
     extra.data.resize(static_cast<std::size_t>(extra.row_step));
@@ -138,19 +136,16 @@ void PointData::keepOnly(const std::vector<char>& keep) {
   }
   if (neighborhoods) {
     std::vector<pcl::index_t> new_index(n, -1);
-    for (std::size_t i = 0, j = 0; i < n; ++i)
-      if (keep[i])
-        new_index[i] = static_cast<pcl::index_t>(j++);
+    for (std::size_t j = 0; j < m; ++j)
+      new_index[static_cast<std::size_t>(kept[j])] = static_cast<pcl::index_t>(j);
     auto remapped = std::make_shared<Neighborhoods>();
     remapped->reserve(m, neighborhoods->entries());
     pcl::Indices ind;
     std::vector<float> dist;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!keep[i])
-        continue;
+    for (const auto i : kept) {
       ind.clear();
       dist.clear();
-      const NeighborView v = (*neighborhoods)[i];
+      const NeighborView v = (*neighborhoods)[static_cast<std::size_t>(i)];
       for (std::size_t k = 0; k < v.size(); ++k)
         if (new_index[v[k]] >= 0) {
           ind.push_back(new_index[v[k]]);

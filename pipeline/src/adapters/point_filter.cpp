@@ -2,6 +2,7 @@
 
 #include "slipfit/pipeline/errors.h"
 
+#include <algorithm>
 #include <ostream>
 #include <vector>
 
@@ -17,12 +18,16 @@ void keepFiltered(PointData& data, const pcl::Indices& kept, RunContext& context
   const std::size_t n = data.size();
   if (kept.empty())
     throw RunError("no point of the " + std::to_string(n) + " is kept (" + why + ")");
-  std::vector<char> keep(n, 0);
-  for (const auto i : kept)
-    keep[static_cast<std::size_t>(i)] = 1;
   const std::size_t count = kept.size();  // PCL's filters select each index once
-  if (count < n)
-    data.keepOnly(keep);
+  if (count < n) {
+    if (std::is_sorted(kept.begin(), kept.end())) {
+      data.keepOnly(kept);
+    } else {  // a grid filter's order: the points keep theirs
+      pcl::Indices ascending = kept;
+      std::sort(ascending.begin(), ascending.end());
+      data.keepOnly(ascending);
+    }
+  }
   context.report << name << ": " << count << " of " << n << " points kept, " << n - count
                  << " dropped (" << why << ")\n";
 }

@@ -89,6 +89,8 @@ struct PointData {
   /// the removed points and are renumbered. `cloud` is replaced, never changed in place (another
   /// PointData may share it), and the memory of the removed points is released.
   void keepOnly(const std::vector<char>& keep);
+  /// The same for the points \a kept (ascending, each once), as PCL's filters select them.
+  void keepOnly(const pcl::Indices& kept);
   /// Replaces analysis data by its full-resolution data (no-op without `full`): coordinates and
   /// the input's fields from `full`, normals, curvature and stage fields copied from each point's
   /// representative. Neighborhoods are dropped (they belonged to the analysis points).
