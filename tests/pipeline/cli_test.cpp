@@ -7,6 +7,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -212,6 +213,19 @@ INSTANTIATE_TEST_SUITE_P(
                   "input: {path: {in}}\n" + kTwoStages + "output: {dir: /proc/slipfit}\n",
                   points(50), 1, "cannot create the directory"}),
     [](const auto& info) { return std::string(info.param.name); });
+
+// Issue 15: a FIFO given as the config blocked forever (`timeout` turns a hang into exit 124).
+TEST(Cli, AFifoAsTheConfigIsRefusedWithoutBlocking) {
+  const std::string fifo = scratchDir("config_fifo.yaml");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const char* command : {"validate", "run"}) {
+    const CliResult r = runSlipfit(std::string(command) + " '" + fifo + "'", "", "timeout 20");
+    EXPECT_EQ(r.code, 2) << command << ": " << r.err;
+    EXPECT_THAT(r.err, HasSubstr("config_fifo.yaml': not a regular file (a FIFO, socket or device "
+                                 "would block or never end)"));
+  }
+  std::filesystem::remove(fifo);
+}
 
 TEST(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(runSlipfit("").code, 2);
