@@ -10,6 +10,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 
 namespace slipfit::testing {
 namespace {
@@ -95,6 +96,8 @@ TEST_P(BadInputs, OneLineExitCodeNoOutput) {
       if (!line.empty() && std::isdigit(static_cast<unsigned char>(line[0])))
         peak_kb = std::stod(line);  // the last line: "Command exited ..." comes first
     ASSERT_GE(peak_kb, 0) << "no peak memory measured";
+    std::cout << c.name << ": peak " << peak_kb / 1024.0 << " MB for an input of " << file_bytes
+              << " bytes\n";
     EXPECT_LE(peak_kb * 1024, 64.0 * static_cast<double>(file_bytes) + 200e6)
         << "input of " << file_bytes << " bytes";
   }
