@@ -17,7 +17,7 @@ void parameters(YAML::Emitter& e, const Primitive& p, const Eigen::Vector3d& shi
         using T = std::decay_t<decltype(s)>;
         if constexpr (std::is_same_v<T, Plane>) {
           vec(e, "normal", s.normal);
-          e << YAML::Key << "d" << YAML::Value << s.d - s.normal.dot(shift);  // n·(x − t) + d = 0
+          e << YAML::Key << "d" << YAML::Value << s.d + s.normal.dot(shift);  // n·(x − t) = d
         } else if constexpr (std::is_same_v<T, Sphere>) {
           vec(e, "center", s.center + shift);
           e << YAML::Key << "radius" << YAML::Value << s.radius;

@@ -4,6 +4,7 @@
 // cloud at local coordinates.
 #include "run_cli.h"
 #include "slipfit/pipeline/cloud_io.h"
+#include "slipfit/pipeline/primitives_report.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -18,6 +19,29 @@ namespace slipfit::testing {
 namespace {
 
 using ::testing::HasSubstr;
+
+// primitives.yaml writes positions in the input's frame: the fit's + the shift. A plane n·x = d
+// computed at x − t is n·x = d + n·t there.
+TEST(GlobalShift, ReportPositionsAreInTheInputsFrame) {
+  const Eigen::Vector3d t(5e5, 5.4e6, 120);
+  pipeline::PrimitiveRecord plane;
+  plane.fit.type = PrimitiveType::plane;
+  plane.fit.refined = Plane{Eigen::Vector3d(0, 0.6, 0.8), 2.0};
+  plane.fit.algebraic = plane.fit.refined;
+  pipeline::PrimitiveRecord sphere;
+  sphere.fit.type = PrimitiveType::sphere;
+  sphere.fit.refined = Sphere{Eigen::Vector3d(1, 2, 3), 0.5};
+  sphere.fit.algebraic = sphere.fit.refined;
+  const YAML::Node report = YAML::Load(pipeline::primitivesYaml({plane, sphere}, "test", t));
+  EXPECT_EQ(report["global_shift"][1].as<double>(), 5.4e6);
+  const YAML::Node p = report["primitives"][0], s = report["primitives"][1];
+  EXPECT_DOUBLE_EQ(p["d"].as<double>(), 2.0 + 0.6 * 5.4e6 + 0.8 * 120);
+  EXPECT_DOUBLE_EQ(s["center"][0].as<double>(), 1 + 5e5);
+  EXPECT_DOUBLE_EQ(s["center"][1].as<double>(), 2 + 5.4e6);
+  EXPECT_DOUBLE_EQ(s["center"][2].as<double>(), 3 + 120);
+  EXPECT_DOUBLE_EQ(s["radius"].as<double>(), 0.5);
+  EXPECT_FALSE(YAML::Load(pipeline::primitivesYaml({sphere}, "test"))["global_shift"]);
+}
 
 TEST(GlobalShift, NoneNearTheOriginARoundNumberFarFromIt) {
   using pipeline::globalShift;

@@ -128,6 +128,54 @@ INSTANTIATE_TEST_SUITE_P(Scans, RealScanCli,
                                            Scan{"office1.pcd", 0.0}),
                          scanName);
 
+// Issue 14: `fit_primitive` (primitive: auto, the whole-scan default robust: ransac) on a plane
+// scan with outliers returns the plane, PCL's own test tolerance holding: coefficients within 0.1
+// of PCL's RANSAC plane (sac_plane_test: 1 cm, refined) and more than 2000 inliers at 0.03. Here
+// the scan is the milk carton's table, the objects on it the outliers (a fifth of the points).
+// Before the flat-limit rule the robust auto fit chose a sphere of radius 76 m.
+TEST(RealScanCli, FitPrimitiveOnATableScanReturnsPclsPlane) {
+#ifdef SLIPFIT_TESTS_SANITIZED
+  GTEST_SKIP() << "a whole-scan RANSAC fit is left to the Release suite";
+#endif
+  const std::string path = std::string(kSharedDataDir) + "/pcl/milk_cartoon_all_small_clorox.pcd";
+  if (!std::filesystem::exists(path))
+    GTEST_SKIP() << path << " is absent: the plane-scan check needs ../shared/data/pcl";
+  const std::string out = scratchDir("fit_table");
+  const CliResult r = runSlipfit("run configs/fit_primitive.yaml --set input.path=" + path +
+                                 " --set output.dir=" + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const YAML::Node fit = YAML::LoadFile(out + "/primitives.yaml")["primitives"][0];
+  ASSERT_EQ(fit["type"].as<std::string>(), "plane") << r.out;
+  Eigen::Vector4d ours(fit["normal"][0].as<double>(), fit["normal"][1].as<double>(),
+                       fit["normal"][2].as<double>(), fit["d"].as<double>());
+
+  const pipeline::PointData cloud = pipeline::readCloud(path, pipeline::NanPolicy::skip);
+  pcl::SACSegmentation<pcl::PointNormal> sac;
+  sac.setModelType(pcl::SACMODEL_PLANE);
+  sac.setMethodType(pcl::SAC_RANSAC);
+  sac.setDistanceThreshold(0.01);
+  sac.setMaxIterations(1000);
+  sac.setOptimizeCoefficients(true);
+  sac.setInputCloud(cloud.cloud);
+  pcl::PointIndices inliers;
+  pcl::ModelCoefficients coefficients;
+  sac.segment(inliers, coefficients);
+  // PCL's plane is a x + b y + c z + d = 0, slipfit's n·x = d: the same plane has the opposite d.
+  Eigen::Vector4d theirs(coefficients.values[0], coefficients.values[1], coefficients.values[2],
+                         -coefficients.values[3]);
+  theirs /= theirs.head<3>().norm();
+  if (theirs.head<3>().dot(ours.head<3>()) < 0)
+    theirs = -theirs;
+  std::size_t near = 0;
+  for (const auto& p : *cloud.cloud)
+    near += std::abs(ours.head<3>().dot(p.getVector3fMap().cast<double>()) - ours[3]) <= 0.03;
+  std::cout << "table: slipfit's plane " << ours.transpose() << ", PCL's " << theirs.transpose()
+            << ", " << near << " points within 0.03\n";
+  for (int i = 0; i < 4; ++i)
+    EXPECT_NEAR(ours[i], theirs[i], 0.1) << "coefficient " << i;
+  EXPECT_GT(near, 2000u);
+}
+
 // The tabletop target of issue 14, as PCL's cylinder tutorial runs it: crop the scan around a
 // standing object, then the demo's stages. The bleach bottle of the milk-carton scan must be one
 // cylinder segment, its radius within 2 % of PCL's SACSegmentationFromNormals cylinder on the same

@@ -1,5 +1,6 @@
 #include "adapters.h"
 
+#include "slipfit/model_selection.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
@@ -256,7 +257,9 @@ class PrimitiveFittingStage : public Stage {
         continue;
       double lim = 0.0;
       const FitResult r = fitRobust(type, points, normals, w, robust, options_, nullptr, &lim);
-      if (!r.ok())
+      // A curved type in its flat limit (a sphere of radius 76 m over a 1 m table) is the simpler
+      // type, which is a candidate of its own (model_selection.h, as fitAuto decides).
+      if (!r.ok() || isNearlyDegenerate(r.refined, points))
         continue;
       fits.push_back(r);
       if (lim > 0.0)
