@@ -344,7 +344,7 @@ void checkPcdHeaderText(const std::string& path, const std::string& where) {
   };
 
   // The same reading as PCL's PCDReader::readHeader: trimmed lines, keywords matched by prefix,
-  // reading stops at DATA or at the first line it does not know.
+  // reading stops at the first line it does not know (after DATA: the data); the last DATA counts.
   std::size_t pos = 0, line_no = 0;
   while (pos < head.size()) {
     std::size_t nl = head.find('\n', pos);
@@ -402,12 +402,13 @@ void checkPcdHeaderText(const std::string& path, const std::string& where) {
     } else if (startsWith("VIEWPOINT")) {
       continue;
     } else if (startsWith("DATA")) {
-      if (t.size() >= 2 && t[1].rfind("binary_compressed", 0) == 0) {
-        factor = 100;
-        compressed_at = pos;
-      } else if (t.size() >= 2 && t[1].rfind("binary", 0) == 0)
-        factor = 1;
-      break;
+      // PCL does not stop here: it reads on, and the last DATA line decides where the data start
+      // and how they are stored (found by tests/fuzz: a DATA line before the fields).
+      const bool compressed = t.size() >= 2 && t[1].rfind("binary_compressed", 0) == 0;
+      const bool binary = t.size() >= 2 && t[1].rfind("binary", 0) == 0;
+      factor = compressed ? 100 : binary ? 1 : 4;
+      compressed_at = compressed ? pos : 0;
+      continue;
     } else {
       break;
     }
