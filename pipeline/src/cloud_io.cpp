@@ -14,10 +14,10 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 namespace slipfit::pipeline {

@@ -103,7 +103,8 @@ class SlippageStage : public Stage {
     }
     if (!context.outputs)
       throw RunError("no output directory for the report");
-    context.outputs->addText(report_, primitivesYaml({record}, "slipfit slippage_classification", data.frame.shift));
+    context.outputs->addText(
+        report_, primitivesYaml({record}, "slipfit slippage_classification", data.frame.shift));
   }
 
  private:

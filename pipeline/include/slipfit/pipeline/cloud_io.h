@@ -24,7 +24,7 @@ struct ReadReport {
   /// Points kept whose given normal is NaN, inf or zero: their normal is NaN (missing).
   std::size_t normals_missing = 0;
   std::size_t first_missing_normal = 0;  ///< the file's index of the first such point
-  std::string extra_fields;  ///< the names of the fields carried through, comma separated
+  std::string extra_fields;         ///< the names of the fields carried through, comma separated
   double largest_coordinate = 0.0;  ///< the largest |x|, |y| or |z| kept
 };
 
@@ -35,11 +35,12 @@ struct ReadReport {
 Eigen::Vector3d globalShift(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
 
 /// Reads a .ply (ascii or binary) or .pcd file. Coordinates and normals of any numeric type
-/// become float; double coordinates first lose their globalShift (PointData::frame); normals are recognised as normal_x/normal_y/normal_z (PLY nx/ny/nz); every
-/// other field is kept in PointData::extra with its own type. Points with a non-finite coordinate
-/// are dropped (NanPolicy::skip) or refused (error); a point whose given normal is non-finite or
-/// zero is kept with a NaN normal and counted in the report (the caller decides: see runner.cpp).
-/// Throws RunError on a missing, unreadable, truncated or empty file, a file without x/y/z, or a
+/// become float; double coordinates first lose their globalShift (PointData::frame); normals are
+/// recognised as normal_x/normal_y/normal_z (PLY nx/ny/nz); every other field is kept in
+/// PointData::extra with its own type. Points with a non-finite coordinate are dropped
+/// (NanPolicy::skip) or refused (error); a point whose given normal is non-finite or zero is kept
+/// with a NaN normal and counted in the report (the caller decides: see runner.cpp). Throws
+/// RunError on a missing, unreadable, truncated or empty file, a file without x/y/z, or a
 /// non-finite coordinate under NanPolicy::error.
 PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report = nullptr);
 
