@@ -33,6 +33,23 @@ std::string scanName(const ::testing::TestParamInfo<Scan>& info) {
   return name.substr(0, name.find('.'));
 }
 
+/// PCL's RANSAC plane (1000 iterations, refined on its inliers) as a x + b y + c z + d = 0.
+Eigen::Vector4d pclPlane(const pcl::PointCloud<pcl::PointNormal>::ConstPtr& cloud, double threshold,
+                         pcl::PointIndices& inliers) {
+  pcl::SACSegmentation<pcl::PointNormal> sac;
+  sac.setModelType(pcl::SACMODEL_PLANE);
+  sac.setMethodType(pcl::SAC_RANSAC);
+  sac.setDistanceThreshold(threshold);
+  sac.setMaxIterations(1000);
+  sac.setOptimizeCoefficients(true);
+  sac.setInputCloud(cloud);
+  pcl::ModelCoefficients c;
+  sac.segment(inliers, c);
+  if (c.values.size() != 4)
+    return Eigen::Vector4d::Zero();
+  return {c.values[0], c.values[1], c.values[2], c.values[3]};
+}
+
 class RealScanCli : public ::testing::TestWithParam<Scan> {};
 
 bool allFinite(const YAML::Node& node) {
@@ -74,19 +91,9 @@ TEST_P(RealScanCli, DemoRunsWithoutNanAndItsLargestPlaneIsPclsRansacPlane) {
     return;
 
   // PCL's RANSAC plane on the same points (refined on its inliers).
-  pcl::SACSegmentation<pcl::PointNormal> sac;
-  sac.setModelType(pcl::SACMODEL_PLANE);
-  sac.setMethodType(pcl::SAC_RANSAC);
-  sac.setDistanceThreshold(scan.threshold);
-  sac.setMaxIterations(1000);
-  sac.setOptimizeCoefficients(true);
-  sac.setInputCloud(segments.cloud);
   pcl::PointIndices inliers;
-  pcl::ModelCoefficients coefficients;
-  sac.segment(inliers, coefficients);
+  const Eigen::Vector3d oracle = pclPlane(segments.cloud, scan.threshold, inliers).head<3>();
   ASSERT_GT(inliers.indices.size(), segments.size() / 10);
-  const Eigen::Vector3d oracle(coefficients.values[0], coefficients.values[1],
-                               coefficients.values[2]);
 
   // The segment holding most of PCL's inliers, and its plane in primitives.yaml.
   const std::vector<double> labels = segments.numericField("label");
@@ -150,19 +157,10 @@ TEST(RealScanCli, FitPrimitiveOnATableScanReturnsPclsPlane) {
                        fit["normal"][2].as<double>(), fit["d"].as<double>());
 
   const pipeline::PointData cloud = pipeline::readCloud(path, pipeline::NanPolicy::skip);
-  pcl::SACSegmentation<pcl::PointNormal> sac;
-  sac.setModelType(pcl::SACMODEL_PLANE);
-  sac.setMethodType(pcl::SAC_RANSAC);
-  sac.setDistanceThreshold(0.01);
-  sac.setMaxIterations(1000);
-  sac.setOptimizeCoefficients(true);
-  sac.setInputCloud(cloud.cloud);
   pcl::PointIndices inliers;
-  pcl::ModelCoefficients coefficients;
-  sac.segment(inliers, coefficients);
   // PCL's plane is a x + b y + c z + d = 0, slipfit's n·x = d: the same plane has the opposite d.
-  Eigen::Vector4d theirs(coefficients.values[0], coefficients.values[1], coefficients.values[2],
-                         -coefficients.values[3]);
+  Eigen::Vector4d theirs = pclPlane(cloud.cloud, 0.01, inliers);
+  theirs[3] = -theirs[3];
   theirs /= theirs.head<3>().norm();
   if (theirs.head<3>().dot(ours.head<3>()) < 0)
     theirs = -theirs;
