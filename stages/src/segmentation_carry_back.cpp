@@ -70,11 +70,100 @@ void carrySegmentationBack(
       }
     }
   }
+  // The input points of each representative (counting sort: ascending indices).
+  const std::size_t samples = sample_labels.size();
+  std::vector<std::size_t> start(samples + 1, 0);
+  for (const std::int32_t r : representative)
+    if (r >= 0)
+      ++start[static_cast<std::size_t>(r) + 1];
+  for (std::size_t r = 0; r < samples; ++r)
+    start[r + 1] += start[r];
+  std::vector<Eigen::Index> order(start.back());
+  {
+    std::vector<std::size_t> next(start.begin(), start.end() - 1);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (representative[static_cast<std::size_t>(i)] >= 0)
+        order[next[static_cast<std::size_t>(representative[static_cast<std::size_t>(i)])]++] = i;
+  }
+  // Where a point's distances to two segments differ by less than their noise (at a tangent
+  // junction the second is r θ²/2 off a fillet of radius r, θ from the tangent line: within the
+  // noise over a wide band), the point's own distance cannot choose: the mean signed distance of
+  // all the points its representative stands for can (one-signed bias, noise shrunk by √m).
+  const double margin = 2.0 * result.noise;
+  const double cos_tangent = std::cos(result.max_angle);
   std::vector<std::int32_t> labels(static_cast<std::size_t>(n), -1);
-#pragma omp parallel for schedule(static) num_threads(workers)
-  for (Eigen::Index i = 0; i < n; ++i) {
-    double best = 0.0;
-    labels[static_cast<std::size_t>(i)] = nearest(i, result.distance, best);
+#pragma omp parallel num_threads(workers)
+  {
+    std::vector<double> signed_distance;
+#pragma omp for schedule(dynamic, 256)
+    for (std::size_t r = 0; r < samples; ++r) {
+      const std::size_t first = start[r], count = start[r + 1] - first;
+      if (count == 0)
+        continue;
+      std::array<std::int32_t, 9> candidates{};
+      std::size_t k = 0;
+      const auto consider = [&](std::int32_t c) {
+        if (c >= 0 && k < candidates.size() &&
+            std::find(candidates.begin(), candidates.begin() + k, c) == candidates.begin() + k)
+          candidates[k++] = c;
+      };
+      consider(sample_labels[r]);
+      for (pcl::index_t j : sample_neighborhoods[r])
+        consider(sample_labels[static_cast<std::size_t>(j)]);
+      if (k == 0)
+        continue;
+      signed_distance.assign(count * k, 0.0);
+      for (std::size_t m = 0; m < count; ++m) {
+        const Eigen::Vector3d p = points.col(order[first + m]).cast<double>();
+        for (std::size_t c = 0; c < k; ++c)
+          signed_distance[m * k + c] = signedDistance(
+              p, result.segments[static_cast<std::size_t>(candidates[c])].fit.refined);
+      }
+      // The mean signed distance of the input points of the representative and of its
+      // neighbors: a voxel alone can hold one tail of the noise where its leaf is about the
+      // noise's width, and its mean leans to the wrong side.
+      std::array<double, 9> mean{};
+      std::size_t total = 0;
+      if (k > 1) {
+        const auto add = [&](std::size_t v) {
+          for (std::size_t m = start[v]; m < start[v + 1]; ++m) {
+            const Eigen::Vector3d p = points.col(order[m]).cast<double>();
+            for (std::size_t c = 0; c < k; ++c)
+              mean[c] += signedDistance(
+                  p, result.segments[static_cast<std::size_t>(candidates[c])].fit.refined);
+          }
+          total += start[v + 1] - start[v];
+        };
+        add(r);
+        for (pcl::index_t j : sample_neighborhoods[r])
+          if (static_cast<std::size_t>(j) != r)
+            add(static_cast<std::size_t>(j));
+        for (std::size_t c = 0; c < k; ++c)
+          mean[c] = std::abs(mean[c]) / static_cast<double>(total);
+      }
+      for (std::size_t m = 0; m < count; ++m) {
+        const double* d = &signed_distance[m * k];
+        std::size_t best = k;
+        for (std::size_t c = 0; c < k; ++c)
+          if (std::abs(d[c]) <= result.distance &&
+              (best == k || std::abs(d[c]) < std::abs(d[best])))
+            best = c;
+        if (best == k)
+          continue;
+        std::size_t choice = best;
+        const Eigen::Vector3d p = points.col(order[first + m]).cast<double>();
+        const Eigen::Vector3d normal = surfaceNormal(
+            p, result.segments[static_cast<std::size_t>(candidates[best])].fit.refined);
+        for (std::size_t c = 0; c < k; ++c)
+          if (c != best && std::abs(d[c]) <= result.distance &&
+              std::abs(d[c]) <= std::abs(d[best]) + margin && mean[c] < mean[choice] &&
+              std::abs(normal.dot(surfaceNormal(
+                  p, result.segments[static_cast<std::size_t>(candidates[c])].fit.refined))) >=
+                  cos_tangent)
+            choice = c;
+        labels[static_cast<std::size_t>(order[first + m])] = candidates[choice];
+      }
+    }
   }
   for (auto& s : result.segments)
     s.indices.clear();

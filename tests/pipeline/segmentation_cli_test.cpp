@@ -85,10 +85,11 @@ TEST(SegmentationCli, DemoFindsTheSceneAndWritesEveryOutput) {
 
 // The demo scene analysed on a third of its points (sample.points = 15000): at the voxels' means
 // (the default) and at their first points, the carry-back labels all 50,000. Measured mean IoU
-// 0.9653 (mean) and 0.9656 (first), asserted ≥ 0.965; 99.85 % and 99.94 % of the points
-// assigned, asserted ≥ 49,900 of 50,000 (99.8 %): the means' smaller
-// scatter does not shrink the input points' tolerance (the carry-back re-estimates it). 1 and 2
-// threads give the same bytes.
+// 0.9649 (mean) and 0.9659 (first), asserted ≥ 0.964 (0.9653 before the carry-back let a voxel's
+// points decide ties together: −0.0004 here, +0.0015 on the 1 M-point scenes); 99.85 % and 99.94 %
+// of the points assigned, asserted ≥ 49,900 of 50,000 (99.8 %): the means' smaller scatter does not
+// shrink the input points' tolerance (the carry-back re-estimates it). 1 and 2 threads give the
+// same bytes.
 TEST(SegmentationCli, SubsampleAtVoxelMeansOrFirstPointsCarriesBackEveryPoint) {
   for (const std::string position : {"mean", "first"}) {
     const std::string out = scratchDir("demo_sample_" + position);
@@ -106,7 +107,7 @@ TEST(SegmentationCli, SubsampleAtVoxelMeansOrFirstPointsCarriesBackEveryPoint) {
     ASSERT_EQ(label.size(), 50000u);
     const SegmentationScore score = scoreSegmentation(intField(cloud, "truth_label"), label);
     std::cout << position << ": mean IoU " << score.mean_iou << "\n";
-    EXPECT_GE(score.mean_iou, 0.965) << position;
+    EXPECT_GE(score.mean_iou, 0.964) << position;
     EXPECT_GE(std::count_if(label.begin(), label.end(), [](std::int32_t l) { return l >= 0; }),
               49900);
   }
@@ -273,7 +274,7 @@ std::vector<int> typePerLabel(const std::vector<std::int32_t>& label,
 
 // A random scene as bench/run_random_scenes.sh makes them (75 shapes of all five types, 1 M
 // points, σ = 0.002 × the median size; seed 24), segmented by the shipped demo: mean IoU and type
-// accuracy at the figures bench/README.md quotes (0.949 and 0.987; measured 0.9487 and 0.9867,
+// accuracy at the figures bench/README.md quotes (0.963 and 1.000; measured 0.9630 and 1.0000,
 // asserted to the quoted last digit), 75 segments.
 TEST(SegmentationCli, RandomSceneOfAMillionPoints) {
   const std::string scene = scratchDir("random_scene_24");
@@ -295,8 +296,8 @@ TEST(SegmentationCli, RandomSceneOfAMillionPoints) {
       typePerLabel(label, intField(segments, "primitive")));
   std::cout << "random scene 24: mean IoU " << score.mean_iou << ", type accuracy "
             << score.type_accuracy << ", " << score.segments << " segments\n";
-  EXPECT_GE(score.mean_iou, 0.9485);
-  EXPECT_GE(score.type_accuracy, 0.9865);
+  EXPECT_GE(score.mean_iou, 0.963);
+  EXPECT_GE(score.type_accuracy, 1.0);
 }
 
 }  // namespace

@@ -228,9 +228,11 @@ pcl::PointCloud<pcl::PointNormal>::Ptr bracket(unsigned seed, double L, double r
 // mergeRegions the fillet's middle band is a plane in 6 of these 8 brackets (the planes took its
 // first rows, within ε of them). reviseTypes makes every one of those a cylinder — it explains the
 // rows the planes took — and refineBoundaries gives them back: the fillet's segment is a cylinder
-// in all 8 and holds 104–132 of its 150 points (without the phase: 71–92 in a plane).
+// in all 8 and holds 100–144 of its 150 points, 126.5 on average (without the phase: 71–92 in a
+// plane; with the per-point boundary rule of refineBoundaries before the tie cost: 104–132).
 TEST(SegmentationKernel, ReviseTypesTurnsTheBandOfATangentFilletIntoACylinder) {
   int planes_before = 0;
+  std::size_t held_sum = 0;
   for (unsigned seed = 1; seed <= 8; ++seed) {
     std::vector<int> truth;
     const auto cloud = bracket(seed, 0.15, 0.064, 0.0025, 0.01, truth);
@@ -265,10 +267,12 @@ TEST(SegmentationKernel, ReviseTypesTurnsTheBandOfATangentFilletIntoACylinder) {
         continue;
       }
       EXPECT_EQ(r.segments[best].fit.type, PrimitiveType::cylinder) << "seed " << seed;
-      EXPECT_GE(held, 104u) << "seed " << seed;
+      EXPECT_GE(held, 100u) << "seed " << seed;
+      held_sum += held;
     }
   }
   EXPECT_GE(planes_before, 6);
+  EXPECT_GE(static_cast<double>(held_sum) / 8.0, 126.0);
 }
 
 }  // namespace

@@ -69,6 +69,8 @@ class SegmentationKernel {
   void relabelFromRegions();
   void shareEdges();
   void drop(std::size_t region);
+  /// Angle between point i's normal and \a primitive's at it (unsigned), radians.
+  double normalAngle(int i, const Primitive& primitive) const;
 
   Eigen::Ref<const Eigen::Matrix3Xd> points_;  // views: the arrays outlive the object
   Eigen::Ref<const Eigen::Matrix3Xd> normals_;
