@@ -274,8 +274,8 @@ std::vector<int> typePerLabel(const std::vector<std::int32_t>& label,
 
 // A random scene as bench/run_random_scenes.sh makes them (75 shapes of all five types, 1 M
 // points, σ = 0.002 × the median size; seed 24), segmented by the shipped demo: mean IoU and type
-// accuracy at the figures bench/README.md quotes (0.963 and 1.000; measured 0.9630 and 1.0000,
-// asserted to the quoted last digit), 75 segments.
+// accuracy at the figures bench/README.md quotes (measured 0.9749 and 1.000; asserted ≥ 0.974 and
+// 1.0), 75 segments.
 TEST(SegmentationCli, RandomSceneOfAMillionPoints) {
   const std::string scene = scratchDir("random_scene_24");
   const CliResult made = runSlipfit(
@@ -296,7 +296,7 @@ TEST(SegmentationCli, RandomSceneOfAMillionPoints) {
       typePerLabel(label, intField(segments, "primitive")));
   std::cout << "random scene 24: mean IoU " << score.mean_iou << ", type accuracy "
             << score.type_accuracy << ", " << score.segments << " segments\n";
-  EXPECT_GE(score.mean_iou, 0.963);
+  EXPECT_GE(score.mean_iou, 0.974);
   EXPECT_GE(score.type_accuracy, 1.0);
 }
 
