@@ -172,7 +172,8 @@ RowLayout rowLayout(const PointData& data) {
   h.is_dense = true;
   auto add = [&](const std::string& name, std::uint8_t type, const void* base, std::size_t stride) {
     appendField(h, name, type);
-    layout.columns.push_back({static_cast<const std::uint8_t*>(base), stride, fieldTypeSize(type)});
+    layout.columns.push_back(
+        {static_cast<const std::uint8_t*>(base), stride, fieldTypeSize(type), std::nullopt});
   };
   const auto* first = reinterpret_cast<const std::uint8_t*>(cloud.data());
   const std::size_t ps = sizeof(pcl::PointNormal);

@@ -16,6 +16,8 @@ void SegmentationParameters::validate() const {
     throw InvalidParameterError("segmentation: min_points must be at least 3");
   if (!(merge_factor >= 1.0 && merge_factor <= 10.0))
     throw InvalidParameterError("segmentation: merge_factor must be in [1, 10]");
+  if (threads < 0)
+    throw InvalidParameterError("segmentation: threads must be 0 (all cores) or positive");
 }
 
 SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,

@@ -4,6 +4,7 @@
 #include "slipfit/exceptions.h"
 #include "slipfit/model_selection.h"
 
+#include <omp.h>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -415,10 +416,27 @@ void SegmentationKernel::growFreeSeeds() {
   }
 }
 
+std::optional<FitResult> SegmentationKernel::tryMerge(std::size_t a, std::size_t b) const {
+  // A region four times the other's size dominates the union's fit: its primitive must then
+  // hold most of the other's points already.
+  const RegionGrower& grower = *grower_;
+  const std::size_t big = regions_[a].size() >= regions_[b].size() ? a : b;
+  const std::size_t small = big == a ? b : a;
+  if (regions_[big].size() >= 4 * regions_[small].size()) {
+    std::size_t held = 0;
+    for (int i : regions_[small])
+      held += grower.near(i, fits_[big].refined) ? 1 : 0;
+    if (2 * held < regions_[small].size())
+      return std::nullopt;
+  }
+  std::vector<int> both = regions_[a];
+  both.insert(both.end(), regions_[b].begin(), regions_[b].end());
+  return grower.fitBest(both);
+}
+
 void SegmentationKernel::mergeRegions() {
   // Merge adjacent regions while the best fit of their union (any type: bands of a cone grown as
   // cylinders merge into the cone) is about as good as the parts.
-  RegionGrower& grower = *grower_;
   std::vector<int> version(regions_.size(), 0);
   std::set<std::tuple<std::size_t, std::size_t, int, int>> failed;
   for (bool merged = true; merged;) {
@@ -434,6 +452,22 @@ void SegmentationKernel::mergeRegions() {
             ++adjacent[{static_cast<int>(r), other}];
         }
     }
+    // The unions' fits, tried in parallel on the regions as they are now; a pair whose regions
+    // change before its turn below is fitted again then (the same result as one at a time).
+    std::vector<std::pair<std::size_t, std::size_t>> pairs;
+    for (const auto& [pair, edges] : adjacent) {
+      const auto a = static_cast<std::size_t>(pair.first),
+                 b = static_cast<std::size_t>(pair.second);
+      if (alive_[a] && alive_[b] && !failed.count(std::make_tuple(a, b, version[a], version[b])))
+        pairs.emplace_back(a, b);
+    }
+    std::vector<std::optional<FitResult>> tried(pairs.size());
+    const int workers = parameters_.threads > 0 ? parameters_.threads : omp_get_num_procs();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(workers)
+    for (std::size_t k = 0; k < pairs.size(); ++k)
+      tried[k] = tryMerge(pairs[k].first, pairs[k].second);
+    const std::vector<int> round_version = version;
+    std::size_t next = 0;
     for (const auto& [pair, edges] : adjacent) {
       const auto a = static_cast<std::size_t>(pair.first),
                  b = static_cast<std::size_t>(pair.second);
@@ -442,22 +476,18 @@ void SegmentationKernel::mergeRegions() {
       const auto key = std::make_tuple(a, b, version[a], version[b]);
       if (failed.count(key))
         continue;  // tried before, neither has changed since
-      // A region four times the other's size dominates the union's fit: its primitive must then
-      // hold most of the other's points already.
-      const std::size_t big = regions_[a].size() >= regions_[b].size() ? a : b;
-      const std::size_t small = big == a ? b : a;
-      if (regions_[big].size() >= 4 * regions_[small].size()) {
-        std::size_t held = 0;
-        for (int i : regions_[small])
-          held += grower.near(i, fits_[big].refined) ? 1 : 0;
-        if (2 * held < regions_[small].size()) {
-          failed.insert(key);
-          continue;
-        }
+      while (next < pairs.size() && pairs[next] < std::make_pair(a, b))
+        ++next;
+      std::optional<FitResult> union_fit =
+          next < pairs.size() && pairs[next] == std::make_pair(a, b) &&
+                  version[a] == round_version[a] && version[b] == round_version[b]
+              ? std::move(tried[next])
+              : tryMerge(a, b);
+      if (!union_fit) {
+        failed.insert(key);
+        continue;
       }
-      std::vector<int> both = regions_[a];
-      both.insert(both.end(), regions_[b].begin(), regions_[b].end());
-      FitResult fit = grower.fitBest(both);
+      FitResult fit = std::move(*union_fit);
       // Planes meeting at a crease merge only when one curved primitive explains their union
       // better than either plane explains its own points: the facets of a wide fillet whose
       // sagitta over each is within ε (on the 1 M-point scenes, seed 24: 0.940 → 0.949); two
@@ -473,7 +503,7 @@ void SegmentationKernel::mergeRegions() {
       ++version[a];
       for (int i : regions_[b])
         result_.labels[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(a);
-      regions_[a] = std::move(both);
+      regions_[a].insert(regions_[a].end(), regions_[b].begin(), regions_[b].end());
       regions_[b].clear();
       fits_[a] = std::move(fit);
       alive_[b] = 0;

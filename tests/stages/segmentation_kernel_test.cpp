@@ -275,6 +275,44 @@ TEST(SegmentationKernel, ReviseTypesTurnsTheBandOfATangentFilletIntoACylinder) {
   EXPECT_GE(static_cast<double>(held_sum) / 8.0, 126.0);
 }
 
+// mergeRegions tries the unions' fits in parallel on the regions of each round and fits again a
+// pair whose regions changed before its turn: the merges are those of one thread, for any count.
+// The cone's 37 bands (they merge into one) and a bracket's faces (none to merge: none is made
+// up), merged with 1, 2 and 3 threads.
+TEST(SegmentationKernel, MergesAreTheSameForAnyThreadCount) {
+  PrimitiveSamplingParameters sp;
+  Cone cone;
+  cone.half_angle = 15 * M_PI / 180.0;
+  sp.primitive = cone;
+  sp.points = 20000;
+  sp.extent_min = 0.5;
+  sp.extent = 2.0;
+  sp.noise = 0.001;
+  sp.seed = 3;
+  std::vector<int> truth;
+  for (const auto& cloud : {sampledCloud(sp), bracket(5, 0.15, 0.064, 0.0025, 0.01, truth)}) {
+    const Inputs in = prepare(cloud, 12);
+    std::vector<std::vector<std::vector<int>>> regions;
+    std::vector<std::size_t> merges;
+    for (const int threads : {1, 2, 3}) {
+      SegmentationParameters parameters;
+      parameters.threads = threads;
+      SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, parameters);
+      kernel.estimateScale();
+      kernel.growSlippageSeeds();
+      kernel.growFreeSeeds();
+      kernel.mergeRegions();
+      regions.push_back(kernel.regions());
+      merges.push_back(kernel.progress().merges);
+    }
+    EXPECT_EQ(merges[0] > 0, cloud->size() == static_cast<std::size_t>(sp.points));
+    for (std::size_t t = 1; t < regions.size(); ++t) {
+      EXPECT_EQ(merges[t], merges[0]) << t + 1 << " threads";
+      EXPECT_EQ(regions[t], regions[0]) << t + 1 << " threads";
+    }
+  }
+}
+
 }  // namespace
 }  // namespace slipfit
 

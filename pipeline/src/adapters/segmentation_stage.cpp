@@ -105,7 +105,9 @@ class SegmentationStage : public Stage {
       }
       if (!x.allFinite())
         throw RunError("segmentation: some points are not finite");
-      return segmentBySlippage(x, nn, *data.neighborhoods, types, parameters_);
+      SegmentationParameters parameters = parameters_;
+      parameters.threads = context.threads;
+      return segmentBySlippage(x, nn, *data.neighborhoods, types, parameters);
     }();
     if (data.full)
       carryToFull(data, result, context.threads, context.fields_used_later);

@@ -34,6 +34,9 @@ struct SegmentationParameters {
   /// Adjacent segments of one type merge when the fit of their union has an RMS distance at most
   /// this factor times the larger of theirs. [1, 10].
   double merge_factor = 1.5;
+  /// OpenMP threads for the fits tried in parallel (the result does not depend on them); 0 means as
+  /// many as the machine has.
+  int threads = 0;
 
   /// Throws InvalidParameterError naming the field.
   void validate() const;

@@ -67,6 +67,9 @@ class SegmentationKernel {
   /// A new region of \a members (their labels set to it).
   void addRegion(std::vector<int> members, FitResult fit, SlippageType seed_type);
   void relabelFromRegions();
+  /// The best fit of regions a and b together, or nullopt when the larger (4 × the other) does
+  /// not hold half of the smaller's points. Reads only.
+  std::optional<FitResult> tryMerge(std::size_t a, std::size_t b) const;
   void shareEdges();
   void drop(std::size_t region);
   /// Angle between point i's normal and \a primitive's at it (unsigned), radians.
