@@ -100,9 +100,8 @@ TEST(SegmentationKernel, RegionsGrownInRandomPointsAreDroppedAsVolumes) {
   EXPECT_LT(static_cast<double>(assigned), 0.01 * static_cast<double>(cloud->size()));
 }
 
-// A cone of small half-angle reads locally as a cylinder: growth from those seeds leaves it in
-// several bands, mergeRegions joins them into one cone, and finalize returns it with its points.
-TEST(SegmentationKernel, MergeJoinsTheBandsOfACone) {
+// A cone of half-angle 15° whose local slippage reads as cylinders: grown in 37 bands (seed 3).
+PrimitiveSamplingParameters bandedCone() {
   PrimitiveSamplingParameters sp;
   Cone cone;
   cone.half_angle = 15 * M_PI / 180.0;
@@ -112,6 +111,13 @@ TEST(SegmentationKernel, MergeJoinsTheBandsOfACone) {
   sp.extent = 2.0;
   sp.noise = 0.001;
   sp.seed = 3;
+  return sp;
+}
+
+// A cone of small half-angle reads locally as a cylinder: growth from those seeds leaves it in
+// several bands, mergeRegions joins them into one cone, and finalize returns it with its points.
+TEST(SegmentationKernel, MergeJoinsTheBandsOfACone) {
+  const PrimitiveSamplingParameters sp = bandedCone();
   const auto cloud = sampledCloud(sp);
   const Inputs in = prepare(cloud, 12);
   SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
@@ -280,15 +286,7 @@ TEST(SegmentationKernel, ReviseTypesTurnsTheBandOfATangentFilletIntoACylinder) {
 // The cone's 37 bands (they merge into one) and a bracket's faces (none to merge: none is made
 // up), merged with 1, 2 and 3 threads.
 TEST(SegmentationKernel, MergesAreTheSameForAnyThreadCount) {
-  PrimitiveSamplingParameters sp;
-  Cone cone;
-  cone.half_angle = 15 * M_PI / 180.0;
-  sp.primitive = cone;
-  sp.points = 20000;
-  sp.extent_min = 0.5;
-  sp.extent = 2.0;
-  sp.noise = 0.001;
-  sp.seed = 3;
+  const PrimitiveSamplingParameters sp = bandedCone();
   std::vector<int> truth;
   for (const auto& cloud : {sampledCloud(sp), bracket(5, 0.15, 0.064, 0.0025, 0.01, truth)}) {
     const Inputs in = prepare(cloud, 12);
