@@ -88,7 +88,8 @@ void carrySegmentationBack(
   // Where a point's distances to two segments differ by less than their noise (at a tangent
   // junction the second is r θ²/2 off a fillet of radius r, θ from the tangent line: within the
   // noise over a wide band), the point's own distance cannot choose: the mean signed distance of
-  // all the points its representative stands for can (one-signed bias, noise shrunk by √m).
+  // the points of its representative and of the representative's neighbors can (one-signed
+  // bias, noise shrunk by the square root of their count).
   const double margin = 2.0 * result.noise;
   const double cos_tangent = std::cos(result.max_angle);
   std::vector<std::int32_t> labels(static_cast<std::size_t>(n), -1);
@@ -120,12 +121,19 @@ void carrySegmentationBack(
               p, result.segments[static_cast<std::size_t>(candidates[c])].fit.refined);
       }
       // The mean signed distance of the input points of the representative and of its
-      // neighbors: a voxel alone can hold one tail of the noise where its leaf is about the
-      // noise's width, and its mean leans to the wrong side.
+      // neighbors, computed at the first tie: a voxel alone can hold one tail of the noise where
+      // its leaf is about the noise's width, and its mean leans to the wrong side.
       std::array<double, 9> mean{};
-      std::size_t total = 0;
-      if (k > 1) {
-        const auto add = [&](std::size_t v) {
+      bool have_mean = false;
+      const auto computeMean = [&] {
+        std::size_t total = count;
+        for (std::size_t m = 0; m < count; ++m)
+          for (std::size_t c = 0; c < k; ++c)
+            mean[c] += signed_distance[m * k + c];
+        for (pcl::index_t j : sample_neighborhoods[r]) {
+          const auto v = static_cast<std::size_t>(j);
+          if (v == r)
+            continue;
           for (std::size_t m = start[v]; m < start[v + 1]; ++m) {
             const Eigen::Vector3d p = points.col(order[m]).cast<double>();
             for (std::size_t c = 0; c < k; ++c)
@@ -133,14 +141,11 @@ void carrySegmentationBack(
                   p, result.segments[static_cast<std::size_t>(candidates[c])].fit.refined);
           }
           total += start[v + 1] - start[v];
-        };
-        add(r);
-        for (pcl::index_t j : sample_neighborhoods[r])
-          if (static_cast<std::size_t>(j) != r)
-            add(static_cast<std::size_t>(j));
+        }
         for (std::size_t c = 0; c < k; ++c)
           mean[c] = std::abs(mean[c]) / static_cast<double>(total);
-      }
+        have_mean = true;
+      };
       for (std::size_t m = 0; m < count; ++m) {
         const double* d = &signed_distance[m * k];
         std::size_t best = k;
@@ -156,11 +161,15 @@ void carrySegmentationBack(
             p, result.segments[static_cast<std::size_t>(candidates[best])].fit.refined);
         for (std::size_t c = 0; c < k; ++c)
           if (c != best && std::abs(d[c]) <= result.distance &&
-              std::abs(d[c]) <= std::abs(d[best]) + margin && mean[c] < mean[choice] &&
+              std::abs(d[c]) <= std::abs(d[best]) + margin &&
               std::abs(normal.dot(surfaceNormal(
                   p, result.segments[static_cast<std::size_t>(candidates[c])].fit.refined))) >=
-                  cos_tangent)
-            choice = c;
+                  cos_tangent) {
+            if (!have_mean)
+              computeMean();
+            if (mean[c] < mean[choice])
+              choice = c;
+          }
         labels[static_cast<std::size_t>(order[first + m])] = candidates[choice];
       }
     }
