@@ -141,13 +141,8 @@ struct Residuals {
   int inputs() const { return chart->size(); }
   int values() const { return static_cast<int>(points->cols()); }
   int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
-    const Primitive shape = chart->decode(x);
-    std::visit(
-        [&](const auto& s) {
-          for (Eigen::Index i = 0; i < points->cols(); ++i)
-            f[i] = (*sqrt_w)[i] * signedDistance(points->col(i), s);
-        },
-        shape);
+    signedDistances(*points, chart->decode(x), f);
+    f.array() *= sqrt_w->array();
     return 0;
   }
 };

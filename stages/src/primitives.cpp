@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <type_traits>
 
 namespace slipfit {
 
@@ -49,16 +50,39 @@ double signedDistance(const Eigen::Vector3d& p, const Cylinder& s) {
   return (v - v.dot(s.axis) * s.axis).norm() - s.radius;
 }
 
+namespace {
+
+/// A cone with its half angle's cosine and sine, computed once for many points.
+struct ConeFrame {
+  const Cone& cone;
+  double c, sn;
+  explicit ConeFrame(const Cone& s)
+      : cone(s), c(std::cos(s.half_angle)), sn(std::sin(s.half_angle)) {}
+  double operator()(const Eigen::Vector3d& p) const {
+    // In the half-plane through the axis and p: h along the axis, ρ ≥ 0 away from it. The cone
+    // is the ray from the apex at angle θ to the axis, direction (cos θ, sin θ).
+    const Eigen::Vector3d v = p - cone.apex;
+    const double h = v.dot(cone.axis);
+    const double rho = (v - h * cone.axis).norm();
+    if (h * c + rho * sn < 0.0)
+      return v.norm();  // beyond 90° from the ray: the apex is nearest
+    return rho * c - h * sn;
+  }
+};
+
+/// The signed distance to \a shape as a function of the point, its constants computed once.
+template <typename Shape>
+auto distanceTo(const Shape& shape) {
+  if constexpr (std::is_same_v<Shape, Cone>)
+    return ConeFrame(shape);
+  else
+    return [&shape](const Eigen::Vector3d& p) { return signedDistance(p, shape); };
+}
+
+}  // namespace
+
 double signedDistance(const Eigen::Vector3d& p, const Cone& s) {
-  // In the half-plane through the axis and p: h along the axis, ρ ≥ 0 away from it. The cone is
-  // the ray from the apex at angle θ to the axis, direction (cos θ, sin θ).
-  const Eigen::Vector3d v = p - s.apex;
-  const double h = v.dot(s.axis);
-  const double rho = (v - h * s.axis).norm();
-  const double c = std::cos(s.half_angle), sn = std::sin(s.half_angle);
-  if (h * c + rho * sn < 0.0)
-    return v.norm();  // beyond 90° from the ray: the apex is nearest
-  return rho * c - h * sn;
+  return ConeFrame(s)(p);
 }
 
 double signedDistance(const Eigen::Vector3d& p, const Torus& s) {
@@ -110,15 +134,27 @@ Eigen::Vector3d surfaceNormal(const Eigen::Vector3d& p, const Primitive& s) {
   return std::cos(cone.half_angle) * radial(v, cone.axis) - std::sin(cone.half_angle) * cone.axis;
 }
 
+void signedDistances(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Primitive& primitive,
+                     Eigen::Ref<Eigen::VectorXd> out) {
+  std::visit(
+      [&](const auto& shape) {
+        const auto to = distanceTo(shape);
+        for (Eigen::Index i = 0; i < points.cols(); ++i)
+          out[i] = to(points.col(i));
+      },
+      primitive);
+}
+
 double weightedLoss(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                     const Eigen::Ref<const Eigen::VectorXd>& weights, const Primitive& primitive) {
   return std::visit(
       [&](const auto& shape) {
+        const auto to = distanceTo(shape);
         double loss = 0.0;
         for (Eigen::Index i = 0; i < points.cols(); ++i) {
           if (!(weights[i] > 0.0))
             continue;  // zero weight: no influence, even when not finite
-          const double d = signedDistance(points.col(i), shape);
+          const double d = to(points.col(i));
           loss += weights[i] * d * d;
         }
         return loss;

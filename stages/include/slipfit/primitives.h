@@ -83,6 +83,11 @@ inline double distance(const Eigen::Vector3d& p, const Primitive& s) {
 /// tube centres) some unit vector ⟂ the axis.
 Eigen::Vector3d surfaceNormal(const Eigen::Vector3d& p, const Primitive& s);
 
+/// The signed distance of every column of \a points (3 × N) to \a primitive, in \a out (N):
+/// the shape's constants (a cone's cosine and sine) computed once.
+void signedDistances(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Primitive& primitive,
+                     Eigen::Ref<Eigen::VectorXd> out);
+
 /// Σ wᵢ D²(pᵢ, A) over the columns of \a points (3 × N) with weights \a weights (N).
 double weightedLoss(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                     const Eigen::Ref<const Eigen::VectorXd>& weights, const Primitive& primitive);
