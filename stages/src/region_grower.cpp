@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace slipfit {
 
@@ -33,6 +34,20 @@ FitResult RegionGrower::fit(PrimitiveType type, const std::vector<int>& members,
   Eigen::Matrix3Xd p, n;
   gather(members, all, p, n, kSubset);
   return fitPrimitive(type, p, n, Eigen::VectorXd::Ones(p.cols()));
+}
+
+FitResult RegionGrower::fitByPrecision(PrimitiveType type, const std::vector<int>& members) const {
+  Eigen::Matrix3Xd p, n;
+  gather(members, true, p, n, kSubset);
+  Eigen::VectorXd w(p.cols());
+  double floor = std::numeric_limits<double>::infinity();
+  for (int i : members)
+    floor = std::min(floor, tolerance(i));
+  for (Eigen::Index j = 0; j < w.size(); ++j) {
+    const double relative = floor / tolerance(members[static_cast<std::size_t>(j)]);
+    w(j) = relative * relative;
+  }
+  return fitPrimitive(type, p, n, w);
 }
 
 FitResult RegionGrower::fitBest(const std::vector<int>& members, bool refine) const {

@@ -1012,6 +1012,20 @@ void SegmentationKernel::dropNonSurfaces() {
   }
 }
 
+double SegmentationKernel::precisionRms(const std::vector<int>& members,
+                                        const Primitive& primitive) const {
+  const RegionGrower& grower = *grower_;
+  double floor = std::numeric_limits<double>::infinity();
+  for (int i : members)
+    floor = std::min(floor, grower.tolerance(i));
+  double sum = 0.0;
+  for (int i : members) {
+    const double d = distance(points_.col(i), primitive) * (floor / grower.tolerance(i));
+    sum += d * d;
+  }
+  return members.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(members.size()));
+}
+
 SegmentationResult SegmentationKernel::finalize() {
   // Largest first, indices ascending; labels renumbered to match.
   const RegionGrower& grower = *grower_;
@@ -1030,10 +1044,12 @@ SegmentationResult SegmentationKernel::finalize() {
     std::sort(s.indices.begin(), s.indices.end());
     // Refit on the final members (crease points joined after the last fit), kept when it is no
     // worse than the region's fit: a face recovered with its own normals (recoverSmallFaces) is
-    // refitted here from the cloud's, which straddle its edges.
-    s.fit = grower.fit(fits_[order[k]].type, s.indices, true);
-    if (!s.fit.ok() || rmsOf(points_, s.indices, s.fit.refined, nullptr) >
-                           rmsOf(points_, s.indices, fits_[order[k]].refined, nullptr))
+    // refitted here from the cloud's, which straddle its edges. Each member weighs by its
+    // precision (RegionGrower::fitByPrecision): on a quantized scan the far rows, whose steps are
+    // several times the near ones', no longer tilt a table.
+    s.fit = grower.fitByPrecision(fits_[order[k]].type, s.indices);
+    if (!s.fit.ok() ||
+        precisionRms(s.indices, s.fit.refined) > precisionRms(s.indices, fits_[order[k]].refined))
       s.fit = std::move(fits_[order[k]]);
     s.seed_type = seed_types_[order[k]];
     refineFromSlippage(points_, normals_, s);

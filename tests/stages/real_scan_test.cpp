@@ -98,11 +98,13 @@ std::size_t assigned(const SegmentationResult& r) {
   return n;
 }
 
-// The table: 1 m from the camera, depth steps 2–4 mm. Measured: 0.31° from PCL's RANSAC plane
-// (1 cm threshold, refined on its inliers), 93 % of its inliers in the one plane segment (small
-// segments of table noise at its rim take the rest), 95 % of the scan assigned. The 0.1°
-// is not reached: the Kinect's depth distortion bends the table by about 2 mm, so the two inlier
-// sets weigh the bend differently.
+// The table: 0.6–1.8 m from the camera, depth steps 1–12 mm. Measured: 0.123° from PCL's RANSAC
+// plane (1 cm threshold, refined on its inliers; 0.311° before the final fit weighed each point by
+// its precision), 92 % of its inliers in the one plane segment (small segments of table noise at
+// its rim take the rest), 96 % of the scan assigned. The 0.1° is not reached, and the
+// oracle itself does not hold it: PCL's plane at thresholds of 0.4, 0.6, 0.8, 1.25 cm lies 0.13,
+// 0.06, 0.03, 0.04° from its plane at 1 cm, and 0.39° at 1.5 cm (the Kinect's depth distortion
+// bends the far table by 1–2 cm, and each threshold takes a different share of the bend).
 TEST(RealScan, MilkCartonTableIsOnePlaneNearPclRansacsAndNoSegmentIsADepthSlice) {
   const std::string name = "milk_cartoon_all_small_clorox.pcd";
   const auto cloud = loadScan(name);
@@ -117,7 +119,7 @@ TEST(RealScan, MilkCartonTableIsOnePlaneNearPclRansacsAndNoSegmentIsADepthSlice)
   const Segment& s = r.segments[k];
   ASSERT_EQ(s.fit.type, PrimitiveType::plane) << "segment " << k;
   const double angle = angleDegrees(std::get<Plane>(s.fit.refined).normal, oracle.normal);
-  EXPECT_LT(angle, 0.5);
+  EXPECT_LT(angle, 0.125);
   std::size_t shared = 0;
   for (const auto i : inliers.indices)
     shared += r.labels[static_cast<std::size_t>(i)] == static_cast<std::int32_t>(k) ? 1 : 0;

@@ -39,6 +39,11 @@ class RegionGrower {
   /// Fits \a type to the members; with \a all false, to an evenly strided subset of at most
   /// kSubset of them.
   FitResult fit(PrimitiveType type, const std::vector<int>& members, bool all = false) const;
+  /// Fits \a type to all the members, each weighing 1 / tolerance² (relative to the members'
+  /// smallest): where the tolerance follows the noise (depth recorded on levels that grow with z²)
+  /// that is the inverse-variance weight of least squares; with one tolerance for all members,
+  /// every weight is 1 and this is fit(type, members, true).
+  FitResult fitByPrecision(PrimitiveType type, const std::vector<int>& members) const;
   /// The simplest adequate type for the members (with \a refine false: closed forms only, a
   /// quick look at a seed's neighborhood).
   FitResult fitBest(const std::vector<int>& members, bool refine = true) const;

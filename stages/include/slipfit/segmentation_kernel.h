@@ -74,6 +74,9 @@ class SegmentationKernel {
   void drop(std::size_t region);
   /// Angle between point i's normal and \a primitive's at it (unsigned), radians.
   double normalAngle(int i, const Primitive& primitive) const;
+  /// RMS distance of \a members to \a primitive, each distance scaled by the members' smallest
+  /// tolerance over its own (the RMS distance when all tolerances are equal).
+  double precisionRms(const std::vector<int>& members, const Primitive& primitive) const;
 
   Eigen::Ref<const Eigen::Matrix3Xd> points_;  // views: the arrays outlive the object
   Eigen::Ref<const Eigen::Matrix3Xd> normals_;
