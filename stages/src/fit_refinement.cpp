@@ -1,12 +1,11 @@
 // Refinement of a primitive on the true weighted geometric loss Σ wᵢ D²(pᵢ, A) by
-// Levenberg–Marquardt (Eigen's unsupported module, numerical Jacobian), in coordinates centred on
+// Levenberg–Marquardt (Eigen's unsupported module, exact Jacobian), in coordinates centred on
 // the weighted centroid and scaled to unit RMS radius; plus fitPrimitive and fitAuto.
 #include "slipfit/weighted_fit.h"
 
 #include "slipfit/model_selection.h"
 
 #include <unsupported/Eigen/NonLinearOptimization>
-#include <unsupported/Eigen/NumericalDiff>
 
 #include <Eigen/Geometry>
 
@@ -14,12 +13,16 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 namespace slipfit {
 
 namespace {
 
 constexpr double kHalfPi = 1.57079632679489661923;
+/// An RMS distance, in the refinement's normalised coordinates (unit RMS radius), at which a fit
+/// is exact to the rounding of double coordinates (10⁴ ε).
+constexpr double kExactRms = 1e-12;
 
 /// A primitive moved into normalised coordinates x' = (x − o)/s, and back.
 Primitive toNormalised(const Primitive& p, const Eigen::Vector3d& o, double s) {
@@ -128,6 +131,37 @@ struct Chart {
   }
 };
 
+/// Derivatives of a direction turned by the chart, dir(a, b) = (d + a u + b v)/‖·‖, with respect
+/// to a and b (columns), at the chart's current (a, b).
+Eigen::Matrix<double, 3, 2> turnDerivative(const Chart& chart, const Eigen::Vector3d& dir, double a,
+                                           double b) {
+  const Eigen::Vector3d m = dir + a * chart.u + b * chart.v;
+  const double length = m.norm();
+  const Eigen::Vector3d unit = m / length;
+  Eigen::Matrix<double, 3, 2> d;
+  d.col(0) = (chart.u - unit * unit.dot(chart.u)) / length;
+  d.col(1) = (chart.v - unit * unit.dot(chart.v)) / length;
+  return d;
+}
+
+/// \a w / ‖w‖, or zero for a zero \a w (a subgradient where the distance has a kink).
+Eigen::Vector3d unitOrZero(const Eigen::Vector3d& w) {
+  const double length = w.norm();
+  return length > 0.0 ? Eigen::Vector3d(w / length) : Eigen::Vector3d::Zero();
+}
+
+/// The component of \a w off the unit \a axis, as its length and unit direction (zero on the
+/// axis, where the distance is not differentiable and any subgradient will do).
+double offAxis(const Eigen::Vector3d& w, const Eigen::Vector3d& axis, double h,
+               Eigen::Vector3d* unit) {
+  const Eigen::Vector3d q = w - h * axis;
+  const double rho = q.norm();
+  *unit = rho > 0.0 ? Eigen::Vector3d(q / rho) : Eigen::Vector3d::Zero();
+  return rho;
+}
+
+/// The residuals √wᵢ · signedDistance(pᵢ, chart.decode(x)) and their exact Jacobian (one pass over
+/// the points instead of the chart's size + 1 of a numerical one).
 struct Residuals {
   using Scalar = double;
   enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
@@ -143,6 +177,76 @@ struct Residuals {
   int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
     signedDistances(*points, chart->decode(x), f);
     f.array() *= sqrt_w->array();
+    return 0;
+  }
+  int df(const Eigen::VectorXd& x, Eigen::MatrixXd& jac) const {
+    const Primitive shape = chart->decode(x);
+    const Eigen::Index n = points->cols();
+    std::visit(
+        [&](const auto& s) {
+          using T = std::decay_t<decltype(s)>;
+          if constexpr (std::is_same_v<T, Plane>) {
+            const auto turn =
+                turnDerivative(*chart, std::get<Plane>(chart->base).normal, x[0], x[1]);
+            for (Eigen::Index i = 0; i < n; ++i) {
+              jac.row(i).head<2>() = points->col(i).transpose() * turn;
+              jac(i, 2) = -1.0;
+            }
+          } else if constexpr (std::is_same_v<T, Sphere>) {
+            for (Eigen::Index i = 0; i < n; ++i) {
+              jac.row(i).head<3>() = -unitOrZero(points->col(i) - s.center).transpose();
+              jac(i, 3) = -1.0;
+            }
+          } else if constexpr (std::is_same_v<T, Cylinder>) {
+            const auto turn =
+                turnDerivative(*chart, std::get<Cylinder>(chart->base).axis, x[0], x[1]);
+            for (Eigen::Index i = 0; i < n; ++i) {
+              const Eigen::Vector3d w = points->col(i) - s.point;
+              const double h = w.dot(s.axis);
+              Eigen::Vector3d q;
+              offAxis(w, s.axis, h, &q);
+              jac.row(i).head<2>() = (-h * q).transpose() * turn;
+              jac(i, 2) = -q.dot(chart->u);
+              jac(i, 3) = -q.dot(chart->v);
+              jac(i, 4) = -1.0;
+            }
+          } else if constexpr (std::is_same_v<T, Cone>) {
+            const auto turn = turnDerivative(*chart, std::get<Cone>(chart->base).axis, x[3], x[4]);
+            const double c = std::cos(s.half_angle), sn = std::sin(s.half_angle);
+            for (Eigen::Index i = 0; i < n; ++i) {
+              const Eigen::Vector3d w = points->col(i) - s.apex;
+              const double h = w.dot(s.axis);
+              Eigen::Vector3d q;
+              const double rho = offAxis(w, s.axis, h, &q);
+              if (h * c + rho * sn < 0.0) {  // the apex is nearest: f = ‖w‖
+                jac.row(i).head<3>() = -unitOrZero(w).transpose();
+                jac.row(i).tail<3>().setZero();
+                continue;
+              }
+              jac.row(i).head<3>() = (-c * q + sn * s.axis).transpose();
+              jac.row(i).segment<2>(3) = (-(c * h) * q - sn * w).transpose() * turn;
+              jac(i, 5) = -rho * sn - h * c;
+            }
+          } else {
+            const auto turn = turnDerivative(*chart, std::get<Torus>(chart->base).axis, x[0], x[1]);
+            for (Eigen::Index i = 0; i < n; ++i) {
+              const Eigen::Vector3d w = points->col(i) - s.center;
+              const double z = w.dot(s.axis);
+              Eigen::Vector3d q;
+              const double e = offAxis(w, s.axis, z, &q) - s.major_radius;
+              const double length = std::sqrt(e * e + z * z);
+              // ∂f/∂ρ = e/D and ∂f/∂z = z/D, D the distance to the circle of tube centres.
+              const double fr = length > 0.0 ? e / length : 0.0;
+              const double fz = length > 0.0 ? z / length : 0.0;
+              jac.row(i).head<2>() = (-(fr * z) * q + fz * w).transpose() * turn;
+              jac.row(i).segment<3>(2) = (-fr * q - fz * s.axis).transpose();
+              jac(i, 5) = -fr;
+              jac(i, 6) = -1.0;
+            }
+          }
+        },
+        shape);
+    jac.array().colwise() *= sqrt_w->array();
     return 0;
   }
 };
@@ -227,12 +331,18 @@ Primitive refinePrimitive(const Primitive& initial,
     return initial;
 
   Residuals f{&chart, &q, &sw};
-  Eigen::NumericalDiff<Residuals> numeric(f);
-  Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Residuals>> lm(numeric);
-  lm.parameters.maxfev = max_iterations * (chart.size() + 1);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(chart.size());
+  Eigen::VectorXd start(used);
+  f(x, start);
+  // Already exact to the rounding of double coordinates: nothing left to minimise. (Steps there
+  // are driven by rounding and, where the data fix a parameter only to second order — the axis of
+  // a thin ring of a cylinder — wander by √ε ≈ 1e-8.)
+  if (start.squaredNorm() <= kExactRms * kExactRms * sw.squaredNorm())
+    return initial;
+  Eigen::LevenbergMarquardt<Residuals> lm(f);
+  lm.parameters.maxfev = max_iterations;
   lm.parameters.xtol = 1e-14;
   lm.parameters.ftol = 1e-14;
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(chart.size());
   lm.minimize(x);
   if (iterations)
     *iterations = static_cast<int>(lm.iter);

@@ -31,16 +31,18 @@ bool isNearlyDegenerate(const Primitive& primitive,
     return c->radius > kFlatRadiusRatio * spread(points, c->axis.normalized());
   if (const auto* k = std::get_if<Cone>(&primitive)) {
     // Its curvature radius at the points: their (RMS) distance from the axis / cos(half-angle).
+    // Near 0°, the apex far beyond the points: their RMS distance from it.
     const Eigen::Vector3d a = k->axis.normalized();
-    double sum = 0.0;
+    double sum = 0.0, apex = 0.0;
     for (Eigen::Index i = 0; i < points.cols(); ++i) {
       const Eigen::Vector3d d = points.col(i) - k->apex;
       sum += (d - d.dot(a) * a).squaredNorm();
+      apex += d.squaredNorm();
     }
-    const double rho =
-        points.cols() > 0 ? std::sqrt(sum / static_cast<double>(points.cols())) : 0.0;
-    return rho >
-           kFlatRadiusRatio * std::cos(k->half_angle) * spread(points, Eigen::Vector3d::Zero());
+    const double count = static_cast<double>(std::max<Eigen::Index>(1, points.cols()));
+    const double rho = std::sqrt(sum / count);
+    const double limit = kFlatRadiusRatio * spread(points, Eigen::Vector3d::Zero());
+    return rho > limit * std::cos(k->half_angle) || std::sqrt(apex / count) > limit;
   }
   if (const auto* t = std::get_if<Torus>(&primitive))
     return std::max(t->major_radius, t->minor_radius) >

@@ -325,6 +325,15 @@ void SegmentationKernel::growRegion(PrimitiveType type, std::vector<int> members
     tried_[static_cast<std::size_t>(i)] = 1;
   if (members.size() < result_.min_points)
     return;
+  // The seed's type fitted in its simpler limit (a cone of 0.06° whose apex lies 10⁴ sizes away
+  // is a cylinder; isNearlyDegenerate) gives way to the simplest adequate type.
+  if (fit.type != PrimitiveType::plane &&
+      isNearlyDegenerate(fit.refined, points_(Eigen::all, members))) {
+    const FitResult simpler = grower.fitBest(members);
+    FitResult refit = simpler.ok() ? grower.fit(simpler.type, members) : FitResult{};
+    if (refit.ok())
+      fit = std::move(refit);
+  }
   addRegion(std::move(members), std::move(fit), seed_type);
 }
 

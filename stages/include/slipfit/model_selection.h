@@ -34,11 +34,12 @@ constexpr double kAdequacyMargin = 0.25;
 /// A sphere or cylinder whose radius exceeds this many times the spread of the points across it
 /// (their RMS distance from the centroid; for a cylinder, across its axis), a cone whose radius
 /// of curvature at the points does (distance from the axis / cos of the half-angle: a cone near
-/// 90°), or a torus whose major or minor radius does, is its simpler limit (plane; plane; plane;
-/// cylinder or sphere or plane) however well it fits: over
-/// the points it bends by less than 1/(8·50) of their extent — within a sensor's systematic
-/// distortion (a Kinect's table is a sphere of radius 54 m over 1.5 m, 2.3 mm closer to it than
-/// the plane's 3 mm), and on CAD data an arc of under about 4°.
+/// 90°) or whose apex is farther from the points (their RMS distance: a cone near 0°, whose radius
+/// changes over the points by under 1/50 of itself), or a torus whose major or minor radius does,
+/// is its simpler limit (plane; plane; plane or cylinder; cylinder or sphere or plane) however
+/// well it fits: over the points it bends by less than 1/(8·50) of their extent — within a sensor's
+/// systematic distortion (a Kinect's table is a sphere of radius 54 m over 1.5 m, 2.3 mm closer to
+/// it than the plane's 3 mm), and on CAD data an arc of under about 4°.
 constexpr double kFlatRadiusRatio = 50.0;
 
 /// True when \a primitive is in the degenerate limit above for \a points (3 × N).
