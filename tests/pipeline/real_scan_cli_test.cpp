@@ -125,7 +125,7 @@ TEST_P(RealScanCli, DemoRunsWithoutNanAndItsLargestPlaneIsPclsRansacPlane) {
 }
 
 // The milk carton's table lies 0.6–1.8 m away, depth steps 1–12 mm: RANSAC at 1 cm (measured:
-// 0.123° from slipfit's plane, which holds 92 % of RANSAC's inliers; the 0.1° is not met,
+// 0.120° from slipfit's plane, which holds 92 % of RANSAC's inliers; the 0.1° is not met,
 // see tests/stages/real_scan_test.cpp). The office's largest plane is a wall 5 m away with depth
 // steps of 5 cm: PCL's RANSAC plane there turns with its threshold — 3.6° from slipfit's at 1–3 cm
 // (one depth slice, z = 5.05), 1.05° at 5 cm, 4.5° at 8 cm — so it is no oracle; the office

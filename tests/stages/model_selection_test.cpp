@@ -93,6 +93,25 @@ TEST(FitAutoLimits, FlatConeIsAPlaneAndSlimConeACylinder) {
   EXPECT_EQ(autoType(sample(p)), PrimitiveType::cylinder);
 }
 
+// The cylinder limit of a cone by its apex: a noise-free band of a cone of 0.5° whose apex lies
+// 5000 units away (radius 43.6, changing by 0.017 along the band: 4e-4 of itself) is a cylinder
+// however exactly the cone fits; the same cone from 1 to 100 units off its apex (the radius grows
+// a hundredfold) is not.
+TEST(FitAutoLimits, ConeWithItsApexFarBeyondThePointsIsInItsCylinderLimit) {
+  PrimitiveSamplingParameters p;
+  p.points = 2000;
+  p.noise = 0.0;
+  p.seed = 13;
+  const Cone cone{Eigen::Vector3d::UnitX(), Eigen::Vector3d::Zero(), 0.5 * kDeg};
+  p.primitive = cone;
+  p.extent_min = 5000.0;
+  p.extent = 5002.0;
+  EXPECT_TRUE(isNearlyDegenerate(cone, sample(p).points));
+  p.extent_min = 1.0;
+  p.extent = 100.0;
+  EXPECT_FALSE(isNearlyDegenerate(cone, sample(p).points));
+}
+
 TEST(FitAutoLimits, TorusOfHugeMajorRadiusIsACylinder) {
   // R = 1000, r = 1, 2 units of arc around the axis: the tube bends by 2²/(8·1000) = 5e-4 ≪ σ.
   PrimitiveSamplingParameters p;
