@@ -36,13 +36,18 @@ FitResult RegionGrower::fit(PrimitiveType type, const std::vector<int>& members,
   return fitPrimitive(type, p, n, Eigen::VectorXd::Ones(p.cols()));
 }
 
+double RegionGrower::smallestTolerance(const std::vector<int>& members) const {
+  double floor = std::numeric_limits<double>::infinity();
+  for (int i : members)
+    floor = std::min(floor, tolerance(i));
+  return floor;
+}
+
 FitResult RegionGrower::fitByPrecision(PrimitiveType type, const std::vector<int>& members) const {
   Eigen::Matrix3Xd p, n;
   gather(members, true, p, n, kSubset);
   Eigen::VectorXd w(p.cols());
-  double floor = std::numeric_limits<double>::infinity();
-  for (int i : members)
-    floor = std::min(floor, tolerance(i));
+  const double floor = smallestTolerance(members);
   for (Eigen::Index j = 0; j < w.size(); ++j) {
     const double relative = floor / tolerance(members[static_cast<std::size_t>(j)]);
     w(j) = relative * relative;

@@ -1024,9 +1024,7 @@ void SegmentationKernel::dropNonSurfaces() {
 double SegmentationKernel::precisionRms(const std::vector<int>& members,
                                         const Primitive& primitive) const {
   const RegionGrower& grower = *grower_;
-  double floor = std::numeric_limits<double>::infinity();
-  for (int i : members)
-    floor = std::min(floor, grower.tolerance(i));
+  const double floor = grower.smallestTolerance(members);
   double sum = 0.0;
   for (int i : members) {
     const double d = distance(points_.col(i), primitive) * (floor / grower.tolerance(i));

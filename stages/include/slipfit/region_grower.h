@@ -31,6 +31,8 @@ class RegionGrower {
 
   /// Point \a i's distance tolerance.
   double tolerance(int i) const { return tolerance_[static_cast<std::size_t>(i)]; }
+  /// The smallest tolerance of \a members (+inf for none).
+  double smallestTolerance(const std::vector<int>& members) const;
   /// Point \a i lies within its tolerance of \a primitive.
   bool near(int i, const Primitive& primitive) const;
   /// Near, and the normals agree within the angle tolerance.
