@@ -115,12 +115,24 @@ void PointData::keepOnly(const pcl::Indices& kept) {
     vec.resize(m);
     vec.shrink_to_fit();
   };
-  // A new cloud rather than the old one compacted: the cloud may be shared (the subsample
-  // stage keeps the full one). PCL's copy by indices, as a PCL filter's user would call it.
-  auto copy = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-  pcl::copyPointCloud(*cloud, kept, *copy);
-  copy->is_dense = cloud->is_dense;
-  cloud = std::move(copy);
+  if (cloud.use_count() == 1 && 2 * m >= n) {
+    // Ours alone and at least half kept: compacted in place, as the fields are, with no second
+    // buffer to fault in and no first one to give back; the capacity of the dropped points (at
+    // most half) stays reserved, as in a vector's growth.
+    auto& points = cloud->points;
+    for (std::size_t j = 0; j < m; ++j)
+      points[j] = points[static_cast<std::size_t>(kept[j])];  // kept[j] >= j: ascending
+    points.resize(m);
+    cloud->width = static_cast<std::uint32_t>(m);
+    cloud->height = 1;
+  } else {
+    // A new cloud: the old one may be shared (the subsample stage keeps the full one), or most of
+    // its memory is to be given back. PCL's copy by indices, as a PCL filter's user would call it.
+    auto copy = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+    pcl::copyPointCloud(*cloud, kept, *copy);
+    copy->is_dense = cloud->is_dense;
+    cloud = std::move(copy);
+  }
   for (auto& f : fields)
     std::visit(compact, f.values);
   if (extra.width == n && extra.point_step > 0) {
