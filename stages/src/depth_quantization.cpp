@@ -1,4 +1,5 @@
 #include "slipfit/depth_quantization.h"
+#include "slipfit/median.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,9 +17,7 @@ constexpr double kCoarserThanOthers = 4.0;  // the depth lattice against any oth
                                             // step: median of the 6 gaps around a level
 
 double medianOf(std::vector<double> v) {
-  auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
+  return medianInPlace(v);
 }
 
 /// The lattice of one axis, or an empty one.

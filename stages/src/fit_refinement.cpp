@@ -3,6 +3,7 @@
 // the weighted centroid and scaled to unit RMS radius; plus fitPrimitive and fitAuto.
 #include "slipfit/weighted_fit.h"
 
+#include "slipfit/angle_units.h"
 #include "slipfit/model_selection.h"
 
 #include <unsupported/Eigen/NonLinearOptimization>
@@ -19,7 +20,7 @@ namespace slipfit {
 
 namespace {
 
-constexpr double kHalfPi = 1.57079632679489661923;
+constexpr double kHalfPi = 0.5 * kPi;
 /// An RMS distance, in the refinement's normalised coordinates (unit RMS radius), at which a fit
 /// is exact to the rounding of double coordinates (10⁴ ε).
 constexpr double kExactRms = 1e-12;

@@ -1,5 +1,6 @@
 #include "slipfit/motion_surface_sampler.h"
 
+#include "slipfit/angle_units.h"
 #include "slipfit/exceptions.h"
 
 #include <Eigen/Geometry>
@@ -9,9 +10,7 @@
 
 namespace slipfit {
 
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
+namespace {}
 
 void MotionSurfaceParameters::validate() const {
   if (!(radius > 0.0 && std::isfinite(radius)))

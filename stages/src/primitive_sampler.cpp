@@ -1,5 +1,6 @@
 #include "slipfit/primitive_sampler.h"
 
+#include "slipfit/angle_units.h"
 #include "slipfit/exceptions.h"
 
 #include <Eigen/Geometry>
@@ -11,7 +12,6 @@
 namespace slipfit {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 [[noreturn]] void reject(const std::string& what) {
   throw InvalidParameterError("primitive sampling: " + what);
 }

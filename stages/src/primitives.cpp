@@ -1,4 +1,5 @@
 #include "slipfit/primitives.h"
+#include "slipfit/name_table.h"
 
 #include <Eigen/Geometry>
 
@@ -8,10 +9,7 @@
 namespace slipfit {
 
 std::string_view primitiveTypeName(PrimitiveType type) {
-  for (const auto& [t, name] : kPrimitiveTypeNames)
-    if (t == type)
-      return name;
-  return "?";
+  return nameIn(kPrimitiveTypeNames, type);
 }
 
 PrimitiveType typeOf(const Primitive& primitive) {

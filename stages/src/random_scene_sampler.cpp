@@ -1,5 +1,6 @@
 #include "slipfit/random_scene_sampler.h"
 
+#include "slipfit/angle_units.h"
 #include "slipfit/exceptions.h"
 #include "slipfit/primitive_sampler.h"
 
@@ -13,7 +14,6 @@ namespace slipfit {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr std::size_t kMinPerShape = 500, kMaxPerShape = 50000;
 
 /// One shape in its local frame (axis z, centred near the origin) with its sampling ranges.

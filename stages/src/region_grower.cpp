@@ -1,5 +1,6 @@
 #include "slipfit/region_grower.h"
 
+#include "slipfit/median.h"
 #include "slipfit/primitives.h"
 
 #include <algorithm>
@@ -69,11 +70,7 @@ double RegionGrower::medianDistance(const std::vector<int>& members,
   std::vector<double> d;
   for (std::size_t j = 0; j < members.size(); j += stride)
     d.push_back(distance(points_.col(members[j]), primitive));
-  if (d.empty())
-    return 0.0;
-  auto mid = d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2);
-  std::nth_element(d.begin(), mid, d.end());
-  return *mid;
+  return d.empty() ? 0.0 : medianInPlace(d);
 }
 
 FitResult RegionGrower::grow(PrimitiveType type, std::vector<int>& members, FitResult fit,

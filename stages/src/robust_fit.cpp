@@ -1,4 +1,5 @@
 #include "slipfit/robust_fit.h"
+#include "slipfit/median.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,9 +27,7 @@ double robustScale(const Eigen::VectorXd& d, const Weights& weights) {
       v.push_back(d[i]);
   if (v.empty())
     return 0.0;
-  auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return 1.4826 * *mid;
+  return 1.4826 * medianInPlace(v);
 }
 
 FitResult closedForm(PrimitiveType type, const Points& points, const Points& normals,

@@ -1,5 +1,6 @@
 #include "slipfit/scene_sampler.h"
 
+#include "slipfit/angle_units.h"
 #include "slipfit/exceptions.h"
 
 #include <Eigen/Geometry>
@@ -11,8 +12,6 @@
 namespace slipfit {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The layout, in units of the object size. The box is turned 30° about z so that no face is
 // axis-aligned.

@@ -1,6 +1,7 @@
 #include "slipfit/segmentation_carry_back.h"
 
 #include "slipfit/exceptions.h"
+#include "slipfit/median.h"
 
 #include <omp.h>
 
@@ -61,9 +62,7 @@ void carrySegmentationBack(
     }
     d.erase(std::remove(d.begin(), d.end(), -1.0), d.end());
     if (!d.empty()) {
-      auto mid = d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2);
-      std::nth_element(d.begin(), mid, d.end());
-      const double sigma = *mid / 0.6744897501960817;
+      const double sigma = medianInPlace(d) / 0.6744897501960817;
       if (sigma > result.noise) {
         result.distance += result.noise_factor * (sigma - result.noise);
         result.noise = sigma;

@@ -1,5 +1,6 @@
 #include "slipfit/slippage.h"
 
+#include "slipfit/name_table.h"
 #include "slipfit/weighted_fit.h"
 
 #include <Eigen/Eigenvalues>
@@ -14,10 +15,7 @@
 namespace slipfit {
 
 std::string_view slippageTypeName(SlippageType type) {
-  for (const auto& [t, name] : kSlippageTypeNames)
-    if (t == type)
-      return name;
-  return "?";
+  return nameIn(kSlippageTypeNames, type);
 }
 
 std::optional<PrimitiveType> primitiveTypeOf(SlippageType type) {

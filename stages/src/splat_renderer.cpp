@@ -1,6 +1,8 @@
 #include "slipfit/splat_renderer.h"
 
+#include "slipfit/angle_units.h"
 #include "slipfit/exceptions.h"
+#include "slipfit/median.h"
 
 #include <Eigen/Geometry>
 
@@ -14,7 +16,7 @@ namespace slipfit {
 void RenderParameters::validate() const {
   if (width < 16 || width > 8192 || height < 16 || height > 8192)
     throw InvalidParameterError("render: width and height must be in [16, 8192]");
-  if (!(field_of_view > 0.0 && field_of_view < 3.14159265358979323846))
+  if (!(field_of_view > 0.0 && field_of_view < kPi))
     throw InvalidParameterError("render: field_of_view must be in (0, 180) degrees");
   if (!(view_direction.allFinite() && view_direction.norm() > 0.0))
     throw InvalidParameterError("render: view_direction must be a non-zero vector");
@@ -39,11 +41,8 @@ void useSensorCamera(RenderParameters& parameters, const Eigen::Vector3d& origin
       depth.push_back(z);
   }
   double median = 1.0;
-  if (!depth.empty()) {
-    auto mid = depth.begin() + static_cast<std::ptrdiff_t>(depth.size() / 2);
-    std::nth_element(depth.begin(), mid, depth.end());
-    median = *mid;
-  }
+  if (!depth.empty())
+    median = medianInPlace(depth);
   parameters.eye = origin;
   parameters.target = origin + median * axis;
   parameters.up = -r.col(1);
@@ -89,7 +88,7 @@ std::vector<std::uint8_t> renderSplats(
 
   // Splat radius: the spacing of the points as they would cover the box's projected area.
   const double depth = (box.center() - eye).norm();
-  const double projected_area = 3.14159265358979323846 * std::pow(focal * radius / depth, 2);
+  const double projected_area = kPi * std::pow(focal * radius / depth, 2);
   const double r = parameters.splat_radius.value_or(
       std::clamp(1.1 * std::sqrt(projected_area / static_cast<double>(finite)), 1.0, 8.0));
   const int ri = static_cast<int>(std::ceil(r));

@@ -1,6 +1,7 @@
 #include "slipfit/surface_noise.h"
 
 #include "slipfit/exceptions.h"
+#include "slipfit/median.h"
 
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
@@ -112,9 +113,7 @@ double estimate(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Eigen::M
   }
   if (sigma.empty())
     return 0.0;
-  auto middle = sigma.begin() + static_cast<std::ptrdiff_t>(sigma.size() / 2);
-  std::nth_element(sigma.begin(), middle, sigma.end());
-  return *middle;
+  return medianInPlace(sigma);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "slipfit/torus.h"
 
+#include "slipfit/angle_units.h"
 #include "slipfit/exceptions.h"
 
 #include <cmath>
@@ -8,7 +9,6 @@
 namespace slipfit {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 /// Folds an angle into [0, 2π).
 double wrap(double a) {

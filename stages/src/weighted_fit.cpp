@@ -1,6 +1,8 @@
 #include "slipfit/weighted_fit.h"
 
+#include "slipfit/angle_units.h"
 #include "slipfit/model_selection.h"
+#include "slipfit/name_table.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -14,10 +16,7 @@
 namespace slipfit {
 
 std::string_view fitStatusName(FitStatus status) {
-  for (const auto& [s, name] : kFitStatusNames)
-    if (s == status)
-      return name;
-  return "?";
+  return nameIn(kFitStatusNames, status);
 }
 
 int minimumPoints(PrimitiveType type) {
@@ -427,7 +426,7 @@ FitResult estimateCone(const Points& points, const Points& normals, const Weight
       theta += weights[i] * std::acos(std::clamp(a.dot(d.normalized()), -1.0, 1.0));
   }
   theta /= g.w;
-  if (!(theta > 1e-9 && theta < 0.5 * 3.14159265358979323846 - 1e-9))
+  if (!(theta > 1e-9 && theta < 0.5 * kPi - 1e-9))
     return failure(PrimitiveType::cone, FitStatus::degenerate,
                    "cone fit: the half angle " + std::to_string(theta) + " rad is not in (0, π/2)");
   r.reciprocal_condition = std::min(apex_rcond, axis_rcond);

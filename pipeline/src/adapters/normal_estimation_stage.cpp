@@ -1,5 +1,6 @@
 #include "adapters.h"
 
+#include "slipfit/name_table.h"
 #include "slipfit/normal_estimation.h"
 #include "slipfit/pipeline/errors.h"
 
@@ -111,10 +112,7 @@ class NormalEstimationStage : public Stage {
 
  private:
   std::string_view orientationName() const {
-    for (const auto& [value, name] : kNormalOrientationNames)
-      if (value == p_.orientation)
-        return name;
-    return "?";
+    return nameIn(kNormalOrientationNames, p_.orientation);
   }
 
   NormalParameters p_;

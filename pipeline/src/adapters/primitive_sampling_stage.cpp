@@ -1,5 +1,6 @@
 #include "adapters.h"
 
+#include "slipfit/angle_units.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/primitive_sampler.h"
 
@@ -8,8 +9,6 @@
 namespace slipfit::pipeline::adapters {
 
 namespace {
-
-constexpr double kDegree = 3.14159265358979323846 / 180.0;
 
 class PrimitiveSamplingStage : public Stage {
  public:

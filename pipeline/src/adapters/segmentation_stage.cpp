@@ -1,5 +1,6 @@
 #include "adapters.h"
 
+#include "slipfit/angle_units.h"
 #include "slipfit/cloud_maps.h"
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/pipeline/errors.h"
@@ -20,8 +21,6 @@
 namespace slipfit::pipeline::adapters {
 
 namespace {
-
-constexpr double kDegree = 3.14159265358979323846 / 180.0;
 
 Eigen::Vector3d pointAt(const pcl::PointCloud<pcl::PointNormal>& cloud, int i) {
   return cloud[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();

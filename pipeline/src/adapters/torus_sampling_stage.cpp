@@ -1,5 +1,6 @@
 #include "adapters.h"
 
+#include "slipfit/angle_units.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/mesh_io.h"
 #include "slipfit/pipeline/output_files.h"
@@ -11,8 +12,6 @@
 namespace slipfit::pipeline::adapters {
 
 namespace {
-
-constexpr double kDegree = 3.14159265358979323846 / 180.0;
 
 class TorusSamplingStage : public Stage {
  public:

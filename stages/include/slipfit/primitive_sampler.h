@@ -3,6 +3,7 @@
 /// parameters: noise, outliers, partial coverage, normal noise and random normal sign flips. The
 /// test-cloud source with known answers for fitting and slippage.
 
+#include "slipfit/angle_units.h"
 #include "slipfit/primitives.h"
 
 #include <Eigen/Core>
@@ -24,9 +25,9 @@ struct PrimitiveSamplingParameters {
   /// Angular coverage around the axis (cylinder, cone, torus), radians, 0 ≤ min < max ≤ 2π.
   /// The torus is sampled all around its tube, area-uniform, and needs 0 < r < R.
   double angle_min = 0.0;
-  double angle_max = 2.0 * 3.14159265358979323846;
+  double angle_max = 2.0 * kPi;
   /// Sphere: the cap of this half angle around +axis_hint (π: the whole sphere), radians.
-  double cap = 3.14159265358979323846;
+  double cap = kPi;
   Eigen::Vector3d axis_hint = Eigen::Vector3d::UnitZ();  ///< sphere cap direction
   double noise = 0.0;             ///< σ of isotropic Gaussian position noise, units
   double normal_noise = 0.0;      ///< σ of the normal perturbation, radians

@@ -2,6 +2,7 @@
 /// \file Seeded point sampling of a posed torus with analytic normals, noise, outliers and partial
 /// coverage: the test-cloud source for the later stages.
 
+#include "slipfit/angle_units.h"
 #include "slipfit/torus.h"
 #include "slipfit/torus_mesh.h"
 
@@ -36,9 +37,9 @@ struct TorusSamplingParameters {
   std::size_t points = 10000;  ///< surface samples (outliers come on top), >= 1
   TorusSampling sampling = TorusSampling::area;
   double alpha_min = 0.0;  ///< coverage around the tube, radians, 0 ≤ min < max ≤ 2π
-  double alpha_max = 2.0 * 3.14159265358979323846;
+  double alpha_max = 2.0 * kPi;
   double beta_min = 0.0;  ///< coverage around the axis, radians
-  double beta_max = 2.0 * 3.14159265358979323846;
+  double beta_max = 2.0 * kPi;
   double noise = 0.0;             ///< σ of isotropic Gaussian position noise, world units, >= 0
   double normal_noise = 0.0;      ///< σ of normal perturbation, radians, >= 0
   double outlier_fraction = 0.0;  ///< outliers per surface sample, in [0, 1]
