@@ -1,5 +1,6 @@
 #include "adapters.h"
 
+#include "slipfit/cloud_maps.h"
 #include "slipfit/model_selection.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
@@ -16,6 +17,7 @@
 #include <map>
 #include <ostream>
 #include <sstream>
+#include <utility>
 
 namespace slipfit::pipeline::adapters {
 
@@ -132,15 +134,15 @@ class PrimitiveFittingStage : public Stage {
       if (label >= 0)
         record.label = label;
       const auto m = static_cast<Eigen::Index>(members.size());
-      Eigen::Matrix3Xd points(3, m), normals(3, data.has_normals ? m : 0);
+      const pcl::PointCloud<pcl::PointNormal>& cloud = *data.cloud;
+      const Eigen::Matrix3Xd points = coordinates(cloud)(Eigen::all, members).cast<double>();
+      const Eigen::Matrix3Xd normals =
+          data.has_normals
+              ? Eigen::Matrix3Xd(slipfit::normals(cloud)(Eigen::all, members).cast<double>())
+              : Eigen::Matrix3Xd(3, 0);
       Eigen::VectorXd w(m);
-      for (Eigen::Index j = 0; j < m; ++j) {
-        const auto& p = (*data.cloud)[members[static_cast<std::size_t>(j)]];
-        points.col(j) = p.getVector3fMap().cast<double>();
-        if (data.has_normals)
-          normals.col(j) = p.getNormalVector3fMap().cast<double>();
+      for (Eigen::Index j = 0; j < m; ++j)
         w[j] = weights[members[static_cast<std::size_t>(j)]];
-      }
       if (static_cast<int>(members.size()) < min_points_) {
         record.fit.status = FitStatus::too_few_points;
         record.fit.reason = std::to_string(members.size()) + " points, min_points is " +

@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <ostream>
+#include <utility>
 
 namespace slipfit::pipeline::adapters {
 
@@ -92,16 +93,11 @@ class SegmentationStage : public Stage {
       throw RunError("no output directory for the segmentation outputs");
     // The analysis copies (doubles) live only while segmenting.
     SegmentationResult result = [&] {
-      const auto n = static_cast<Eigen::Index>(data.size());
-      Eigen::Matrix3Xd x(3, n), nn(3, n);
+      const Eigen::Matrix3Xd x = coordinates(*data.cloud).cast<double>();
+      const Eigen::Matrix3Xd nn = normals(std::as_const(*data.cloud)).cast<double>();
       std::vector<SlippageType> types(data.size());
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const auto& p = (*data.cloud)[static_cast<std::size_t>(i)];
-        x.col(i) = p.getVector3fMap().cast<double>();
-        nn.col(i) = p.getNormalVector3fMap().cast<double>();
-        types[static_cast<std::size_t>(i)] =
-            static_cast<SlippageType>(static_cast<int>(local[static_cast<std::size_t>(i)]));
-      }
+      for (std::size_t i = 0; i < types.size(); ++i)
+        types[i] = static_cast<SlippageType>(static_cast<int>(local[i]));
       if (!x.allFinite())
         throw RunError("segmentation: some points are not finite");
       SegmentationParameters parameters = parameters_;

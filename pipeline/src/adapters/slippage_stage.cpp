@@ -1,5 +1,6 @@
 #include "adapters.h"
 
+#include "slipfit/cloud_maps.h"
 #include "slipfit/local_slippage.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
@@ -10,6 +11,7 @@
 
 #include <fstream>
 #include <ostream>
+#include <utility>
 
 namespace slipfit::pipeline::adapters {
 
@@ -66,13 +68,9 @@ class SlippageStage : public Stage {
   void run(PointData& data, RunContext& context) override {
     if (mode_ == SlippageMode::local)
       return runLocal(data, context);
-    const auto n = static_cast<Eigen::Index>(data.size());
-    Eigen::Matrix3Xd x(3, n), nn(3, n);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      x.col(i) = (*data.cloud)[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();
-      nn.col(i) = (*data.cloud)[static_cast<std::size_t>(i)].getNormalVector3fMap().cast<double>();
-    }
-    const Eigen::VectorXd w = Eigen::VectorXd::Ones(n);
+    const Eigen::Matrix3Xd x = coordinates(*data.cloud).cast<double>();
+    const Eigen::Matrix3Xd nn = normals(std::as_const(*data.cloud)).cast<double>();
+    const Eigen::VectorXd w = Eigen::VectorXd::Ones(x.cols());
     PrimitiveRecord record;
     ShapeClassification c = classifyShape(x, nn, w, options_);
     record.slippage = c.verdict;
@@ -96,7 +94,7 @@ class SlippageStage : public Stage {
       // Inliers are judged against the noise measured from the points, not against the fit's
       // own RMS (which would call most points of any fit inliers).
       record.inlier_distance = std::max(3.0 * c.noise, c.floor);
-      for (Eigen::Index i = 0; i < n; ++i)
+      for (Eigen::Index i = 0; i < x.cols(); ++i)
         record.inliers += distance(x.col(i), record.fit.refined) <= record.inlier_distance ? 1 : 0;
       context.report << "fit: " << primitiveTypeName(record.fit.type) << ", rms "
                      << record.fit.rms_distance << "\n";
