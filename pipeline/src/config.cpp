@@ -42,6 +42,20 @@ void RunSettings::declare(OptionSet& o) {
 
 namespace {
 
+/// The sections of a config; every other top-level key is an option of RunSettings.
+const std::set<std::string> kSections = {"input", "stages", "output"};
+
+/// RunSettings' options, for their names (bound to a settings object of their own).
+const OptionSet& settingsOptions() {
+  static RunSettings names_only;
+  static const OptionSet options = [] {
+    OptionSet o;
+    names_only.declare(o);
+    return o;
+  }();
+  return options;
+}
+
 class Loader {
  public:
   Loader(std::string path, const std::vector<std::string>& overrides) : path_(std::move(path)) {
@@ -68,17 +82,16 @@ class Loader {
     PipelineConfig config;
     config.path = path_;
     const YAML::Node& root = root_;
-    static const std::set<std::string> kTop = {"input", "output", "stages", "threads", "seed"};
     for (const auto& kv : root) {
       const std::string key = kv.first.Scalar();
-      if (!kTop.count(key))
+      if (!kSections.count(key) && !settingsOptions().find(key))
         fail(at(kv.first.Mark()) + "unknown top-level key '" + key +
-             "'; valid keys: input, stages, output, threads, seed");
+             "'; valid keys: input, stages, output, " + settingsOptions().namesText());
     }
     {
       OptionSet options;
       config.settings.declare(options);
-      applyMap(root, options, "", "top level", /*skip=*/{"input", "output", "stages"});
+      applyMap(root, options, "", "top level", /*skip=*/kSections);
     }
     // Without an input section the first stage must make the points (e.g. torus_sampling).
     if (root["input"])
@@ -152,10 +165,13 @@ class Loader {
     }
     const auto dot = key.find('.');
     if (dot == std::string::npos) {
-      if (key != "threads" && key != "seed")
-        fail("--set " + text +
-             ": expected SECTION.KEY (input.path, output.dir, TAG.OPTION) or "
-             "threads / seed");
+      if (!settingsOptions().find(key)) {
+        std::string names;
+        for (const auto& o : settingsOptions().all())
+          names += (names.empty() ? "" : " / ") + o->name();
+        fail("--set " + text + ": expected SECTION.KEY (input.path, output.dir, TAG.OPTION) or " +
+             names);
+      }
       root_[key] = value;
       overrides_["." + key] = text;
       return;
