@@ -116,25 +116,191 @@ Motion translation(const Eigen::Vector3d& direction) {
   return m;
 }
 
+/// A point of the normalised set in world coordinates.
+Eigen::Vector3d toWorld(const NormalisedSet& set, const Eigen::Vector3d& q) {
+  return set.c + set.s * q;
+}
+
+/// Three motions read as a plane or a sphere. The ideal motions are built from the blocks of the
+/// matrix rather than from the eigenvectors, which noise mixes when their eigenvalues are close;
+/// both readings are tried and the better fit (BIC) kept. \a frame: the eigenvectors of the
+/// normals' spread, ascending.
+std::optional<SlippageResult> readThreeMotions(const NormalisedSet& set, const SlippageResult& r,
+                                               const Eigen::Matrix3d& frame,
+                                               const SlippageOptions& options) {
+  const Eigen::Matrix3Xd& p = set.p;
+  const Eigen::VectorXd& ww = set.w;
+  const int k = r.motions;
+  std::optional<SlippageResult> plane, sphere;
+  double worst = 0.0;
+  const Eigen::Vector3d nrm = frame.col(2);  // normal = widest spread
+  if (slippable(set, r, k,
+                {rotationAbout(nrm, Eigen::Vector3d::Zero()), translation(frame.col(0)),
+                 translation(frame.col(1))},
+                &worst)) {
+    plane = r;
+    plane->type = SlippageType::plane;
+    plane->normal = nrm;
+    plane->primitive = Plane{nrm, nrm.dot(set.c)};
+  }
+  // The centre is where the normal lines meet: min Σ w |(p − q) × n|².
+  Eigen::Matrix3d lhs = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  for (Eigen::Index i = 0; i < p.cols(); ++i) {
+    const Eigen::Matrix3d proj =
+        Eigen::Matrix3d::Identity() - set.n.col(i) * set.n.col(i).transpose();
+    lhs += ww[i] * proj;
+    rhs += ww[i] * proj * p.col(i);
+  }
+  const Eigen::Vector3d q = lhs.ldlt().solve(rhs);
+  if (q.allFinite() && slippable(set, r, k,
+                                 {rotationAbout(Eigen::Vector3d::UnitX(), q),
+                                  rotationAbout(Eigen::Vector3d::UnitY(), q),
+                                  rotationAbout(Eigen::Vector3d::UnitZ(), q)},
+                                 &worst)) {
+    sphere = r;
+    sphere->type = SlippageType::sphere;
+    sphere->center = toWorld(set, q);
+    double rr = 0.0;
+    for (Eigen::Index i = 0; i < p.cols(); ++i)
+      rr += ww[i] * (p.col(i) - q).norm();
+    sphere->primitive = Sphere{*sphere->center, rr * set.s};
+  }
+  // A sphere far larger than the patch bends it by less than the noise the normals carry, and
+  // its free centre fits that noise: it reads as a plane.
+  if (sphere && plane && std::get<Sphere>(*sphere->primitive).radius > options.flat_radius * set.s)
+    sphere.reset();
+  if (plane && (!sphere || bic(set, *plane->primitive) <= bic(set, *sphere->primitive)))
+    return plane;
+  return sphere;
+}
+
+/// Two motions read as a cylinder. The axis \a a is the translation that slips best (the normal
+/// least spread along it); the axis point q ⟂ a minimises the energy of the rotation (a, q × a),
+/// whose residual per point is (p × n)·a + q·(a × n): Σ w (a×n)(a×n)ᵀ q = −Σ w ((p×n)·a)(a×n),
+/// from the blocks.
+std::optional<SlippageResult> readTwoMotions(const NormalisedSet& set, SlippageResult r,
+                                             const Eigen::Vector3d& a) {
+  const Eigen::Matrix3d cvv = set.matrix.bottomRightCorner<3, 3>();
+  Eigen::Matrix3d ax;
+  ax << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  const Eigen::Matrix3d g = ax * cvv * ax.transpose();
+  const Eigen::Vector3d h = ax * set.matrix.bottomLeftCorner<3, 3>() * a;
+  Eigen::Vector3d q = g.completeOrthogonalDecomposition().solve(-h);
+  q -= a.dot(q) * a;
+  double worst = 0.0;
+  if (!(q.allFinite() &&
+        slippable(set, r, r.motions, {rotationAbout(a, q), translation(a)}, &worst)))
+    return std::nullopt;
+  r.type = SlippageType::cylinder;
+  r.axis = a;
+  r.point = toWorld(set, q);
+  double rho = 0.0;
+  for (Eigen::Index i = 0; i < set.p.cols(); ++i) {
+    const Eigen::Vector3d d = set.p.col(i) - q;
+    rho += set.w[i] * (d - d.dot(a) * a).norm();
+  }
+  r.primitive = Cylinder{a, *r.point, rho * set.s};
+  return r;
+}
+
+/// A surface of revolution about the axis (\a a through \a q): its profile in (t, ρ) = (axial,
+/// radial) coordinates tells which — a line (cylinder or cone), a circle (torus), or neither.
+SlippageResult readProfile(const NormalisedSet& set, SlippageResult r, const Eigen::Vector3d& a,
+                           const Eigen::Vector3d& q, const SlippageOptions& options) {
+  const Eigen::Matrix3Xd& p = set.p;
+  const Eigen::VectorXd& ww = set.w;
+  const Eigen::Index used = p.cols();
+  Eigen::Matrix3d line_n = Eigen::Matrix3d::Zero(), circ_n = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d line_b = Eigen::Vector3d::Zero(), circ_b = Eigen::Vector3d::Zero();
+  Eigen::VectorXd t(used), rho(used);
+  for (Eigen::Index i = 0; i < used; ++i) {
+    const Eigen::Vector3d d = p.col(i) - q;
+    t[i] = d.dot(a);
+    rho[i] = (d - t[i] * a).norm();
+    const Eigen::Vector3d lrow(t[i], 1.0, 0.0), crow(2 * t[i], 2 * rho[i], 1.0);
+    line_n.topLeftCorner<2, 2>() += ww[i] * lrow.head<2>() * lrow.head<2>().transpose();
+    line_b.head<2>() += ww[i] * rho[i] * lrow.head<2>();
+    circ_n += ww[i] * crow * crow.transpose();
+    circ_b += ww[i] * (t[i] * t[i] + rho[i] * rho[i]) * crow;
+  }
+  const Eigen::Vector2d line = line_n.topLeftCorner<2, 2>().ldlt().solve(line_b.head<2>());
+  const Eigen::Vector3d circ = circ_n.ldlt().solve(circ_b);
+  const double circ_r =
+      std::sqrt(std::max(0.0, circ.z() + circ.x() * circ.x() + circ.y() * circ.y()));
+  double line_rms = 0.0, circ_rms = 0.0;
+  for (Eigen::Index i = 0; i < used; ++i) {
+    const double dl = (rho[i] - line.x() * t[i] - line.y()) / std::sqrt(1.0 + line.x() * line.x());
+    const double dc = std::hypot(t[i] - circ.x(), rho[i] - circ.y()) - circ_r;
+    line_rms += ww[i] * dl * dl;
+    circ_rms += ww[i] * dc * dc;
+  }
+  line_rms = std::sqrt(line_rms);
+  circ_rms = std::sqrt(circ_rms);
+  if (line_rms <= options.profile_tolerance && line_rms <= circ_rms) {
+    if (std::abs(line.x()) < 0.02) {
+      r.type = SlippageType::cylinder;  // the translation along the axis fell just above the
+                                        // threshold
+      Eigen::Vector3d foot = q - a.dot(q) * a;
+      r.point = toWorld(set, foot);
+      r.primitive = Cylinder{a, *r.point, line.y() * set.s};
+      return r;
+    }
+    // ρ = α t + β meets the axis at t₀ = −β/α; the opening is where ρ grows.
+    const double t0 = -line.y() / line.x();
+    const Eigen::Vector3d apex = toWorld(set, q + t0 * a);
+    const Eigen::Vector3d axis = line.x() > 0 ? a : Eigen::Vector3d(-a);
+    r.type = SlippageType::cone;
+    r.axis = axis;
+    r.point = apex;
+    r.primitive = Cone{axis, apex, std::atan(std::abs(line.x()))};
+    return r;
+  }
+  r.type = circ_rms <= options.profile_tolerance ? SlippageType::torus : SlippageType::revolution;
+  if (r.type == SlippageType::torus && circ.y() > 0.0) {
+    // The profile circle's centre (t₀, R) and radius: the torus, with its centre on the axis.
+    r.center = toWorld(set, q + circ.x() * a);
+    r.primitive = Torus{a, *r.center, circ.y() * set.s, circ_r * set.s};
+  }
+  return r;
+}
+
+/// One motion (ω, v): an extrusion (ω ≈ 0), a helix (pitch ω·v/|ω|² beyond the tolerance), or a
+/// surface of revolution about the axis ω through q = ω × v/|ω|².
+SlippageResult readOneMotion(const NormalisedSet& set, SlippageResult r,
+                             const Eigen::Matrix<double, 6, 1>& motion,
+                             const SlippageOptions& options) {
+  const Eigen::Vector3d w1 = motion.head<3>(), v1 = motion.tail<3>();
+  if (w1.norm() < 0.1) {
+    r.type = SlippageType::extrusion;
+    r.axis = v1.normalized();
+    return r;
+  }
+  const Eigen::Vector3d a = w1.normalized();
+  const double h = w1.dot(v1) / w1.squaredNorm();
+  const Eigen::Vector3d q = w1.cross(v1) / w1.squaredNorm();
+  r.axis = a;
+  r.point = toWorld(set, q);
+  if (std::abs(h) > options.pitch_tolerance) {
+    r.type = SlippageType::helix;
+    r.pitch = h * set.s;
+    return r;
+  }
+  return readProfile(set, r, a, q, options);
+}
+
 /// The motions of the k smallest eigenvalues read as a surface family, in world coordinates.
 SlippageResult classifyMotions(const NormalisedSet& set, const SlippageResult& base, int k,
                                const SlippageOptions& options) {
   SlippageResult r = base;
-  const Eigen::Matrix3Xd& p = set.p;
-  const Eigen::VectorXd& ww = set.w;
-  const Eigen::Vector3d& c = set.c;
-  const double s = set.s;
-  const Eigen::Index used = p.cols();
   r.motions = k;
   const Eigen::Matrix<double, 6, Eigen::Dynamic> basis = set.vectors.leftCols(k);
   // Back to world coordinates: x = c + s p' moves with ω × x + (s v' − ω × c).
   r.basis.resize(6, k);
   for (int j = 0; j < k; ++j) {
     const Eigen::Vector3d om = basis.col(j).head<3>(), v = basis.col(j).tail<3>();
-    r.basis.col(j) << om, s * v - om.cross(c);
+    r.basis.col(j) << om, set.s * v - om.cross(set.c);
   }
-  auto world = [&](const Eigen::Vector3d& q) -> Eigen::Vector3d { return c + s * q; };
-
   if (k == 0) {
     r.type = SlippageType::none;
     return r;
@@ -147,157 +313,17 @@ SlippageResult classifyMotions(const NormalisedSet& set, const SlippageResult& b
     d.spectrum = r.spectrum;
     return d;
   }
-  const Eigen::Matrix3Xd om = basis.topRows(3);
-  const Eigen::Matrix3Xd vel = basis.bottomRows(3);
-
-  // Three motions read as a plane or a sphere, two as a cylinder. The ideal motions are built
-  // from the blocks of the matrix rather than from the eigenvectors, which noise mixes when their
-  // eigenvalues are close; both three-motion readings are tried and the better fit (BIC) kept.
-  const Eigen::Matrix3d cvv = set.matrix.bottomRightCorner<3, 3>();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> normal_spread(cvv);
-  if (k == 3) {
-    std::optional<SlippageResult> plane, sphere;
-    double worst = 0.0;
-    const Eigen::Matrix3d frame = normal_spread.eigenvectors();  // normal = widest spread
-    const Eigen::Vector3d nrm = frame.col(2);
-    if (slippable(set, r, k,
-                  {rotationAbout(nrm, Eigen::Vector3d::Zero()), translation(frame.col(0)),
-                   translation(frame.col(1))},
-                  &worst)) {
-      plane = r;
-      plane->type = SlippageType::plane;
-      plane->normal = nrm;
-      plane->primitive = Plane{nrm, nrm.dot(c)};
-    }
-    // The centre is where the normal lines meet: min Σ w |(p − q) × n|².
-    Eigen::Matrix3d lhs = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-    for (Eigen::Index i = 0; i < used; ++i) {
-      const Eigen::Matrix3d proj =
-          Eigen::Matrix3d::Identity() - set.n.col(i) * set.n.col(i).transpose();
-      lhs += ww[i] * proj;
-      rhs += ww[i] * proj * p.col(i);
-    }
-    const Eigen::Vector3d q = lhs.ldlt().solve(rhs);
-    if (q.allFinite() && slippable(set, r, k,
-                                   {rotationAbout(Eigen::Vector3d::UnitX(), q),
-                                    rotationAbout(Eigen::Vector3d::UnitY(), q),
-                                    rotationAbout(Eigen::Vector3d::UnitZ(), q)},
-                                   &worst)) {
-      sphere = r;
-      sphere->type = SlippageType::sphere;
-      sphere->center = world(q);
-      double rr = 0.0;
-      for (Eigen::Index i = 0; i < used; ++i)
-        rr += ww[i] * (p.col(i) - q).norm();
-      sphere->primitive = Sphere{*sphere->center, rr * s};
-    }
-    // A sphere far larger than the patch bends it by less than the noise the normals carry, and
-    // its free centre fits that noise: it reads as a plane.
-    if (sphere && plane && std::get<Sphere>(*sphere->primitive).radius > options.flat_radius * s)
-      sphere.reset();
-    if (plane && (!sphere || bic(set, *plane->primitive) <= bic(set, *sphere->primitive)))
-      return *plane;
-    if (sphere)
-      return *sphere;
-  }
-  if (k == 2) {
-    // The axis is the translation that slips best (the normal least spread along it); the axis
-    // point q ⟂ a minimises the energy of the rotation (a, q × a), whose residual per point is
-    // (p × n)·a + q·(a × n): Σ w (a×n)(a×n)ᵀ q = −Σ w ((p×n)·a)(a×n), from the blocks.
-    const Eigen::Vector3d a = normal_spread.eigenvectors().col(0);
-    Eigen::Matrix3d ax;
-    ax << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-    const Eigen::Matrix3d g = ax * cvv * ax.transpose();
-    const Eigen::Vector3d h = ax * set.matrix.bottomLeftCorner<3, 3>() * a;
-    Eigen::Vector3d q = g.completeOrthogonalDecomposition().solve(-h);
-    q -= a.dot(q) * a;
-    double worst = 0.0;
-    if (q.allFinite() && slippable(set, r, k, {rotationAbout(a, q), translation(a)}, &worst)) {
-      r.type = SlippageType::cylinder;
-      r.axis = a;
-      r.point = world(q);
-      double rho = 0.0;
-      for (Eigen::Index i = 0; i < used; ++i) {
-        const Eigen::Vector3d d = p.col(i) - q;
-        rho += ww[i] * (d - d.dot(a) * a).norm();
-      }
-      r.primitive = Cylinder{a, *r.point, rho * s};
-      return r;
-    }
-  }
-  if (k == 1) {
-    const Eigen::Vector3d w1 = om.col(0), v1 = vel.col(0);
-    if (w1.norm() < 0.1) {
-      r.type = SlippageType::extrusion;
-      r.axis = v1.normalized();
-      return r;
-    }
-    const Eigen::Vector3d a = w1.normalized();
-    const double h = w1.dot(v1) / w1.squaredNorm();
-    Eigen::Vector3d q = w1.cross(v1) / w1.squaredNorm();
-    r.axis = a;
-    r.point = world(q);
-    if (std::abs(h) > options.pitch_tolerance) {
-      r.type = SlippageType::helix;
-      r.pitch = h * s;
-      return r;
-    }
-    // A surface of revolution: its profile in (t, ρ) = (axial, radial) coordinates tells which.
-    Eigen::Matrix3d line_n = Eigen::Matrix3d::Zero(), circ_n = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d line_b = Eigen::Vector3d::Zero(), circ_b = Eigen::Vector3d::Zero();
-    Eigen::VectorXd t(used), rho(used);
-    for (Eigen::Index i = 0; i < used; ++i) {
-      const Eigen::Vector3d d = p.col(i) - q;
-      t[i] = d.dot(a);
-      rho[i] = (d - t[i] * a).norm();
-      const Eigen::Vector3d lrow(t[i], 1.0, 0.0), crow(2 * t[i], 2 * rho[i], 1.0);
-      line_n.topLeftCorner<2, 2>() += ww[i] * lrow.head<2>() * lrow.head<2>().transpose();
-      line_b.head<2>() += ww[i] * rho[i] * lrow.head<2>();
-      circ_n += ww[i] * crow * crow.transpose();
-      circ_b += ww[i] * (t[i] * t[i] + rho[i] * rho[i]) * crow;
-    }
-    const Eigen::Vector2d line = line_n.topLeftCorner<2, 2>().ldlt().solve(line_b.head<2>());
-    const Eigen::Vector3d circ = circ_n.ldlt().solve(circ_b);
-    const double circ_r =
-        std::sqrt(std::max(0.0, circ.z() + circ.x() * circ.x() + circ.y() * circ.y()));
-    double line_rms = 0.0, circ_rms = 0.0;
-    for (Eigen::Index i = 0; i < used; ++i) {
-      const double dl =
-          (rho[i] - line.x() * t[i] - line.y()) / std::sqrt(1.0 + line.x() * line.x());
-      const double dc = std::hypot(t[i] - circ.x(), rho[i] - circ.y()) - circ_r;
-      line_rms += ww[i] * dl * dl;
-      circ_rms += ww[i] * dc * dc;
-    }
-    line_rms = std::sqrt(line_rms);
-    circ_rms = std::sqrt(circ_rms);
-    if (line_rms <= options.profile_tolerance && line_rms <= circ_rms) {
-      if (std::abs(line.x()) < 0.02) {
-        r.type = SlippageType::cylinder;  // the translation along the axis fell just above the
-                                          // threshold
-        Eigen::Vector3d foot = q - a.dot(q) * a;
-        r.point = world(foot);
-        r.primitive = Cylinder{a, *r.point, line.y() * s};
-        return r;
-      }
-      // ρ = α t + β meets the axis at t₀ = −β/α; the opening is where ρ grows.
-      const double t0 = -line.y() / line.x();
-      const Eigen::Vector3d apex = world(q + t0 * a);
-      const Eigen::Vector3d axis = line.x() > 0 ? a : Eigen::Vector3d(-a);
-      r.type = SlippageType::cone;
-      r.axis = axis;
-      r.point = apex;
-      r.primitive = Cone{axis, apex, std::atan(std::abs(line.x()))};
-      return r;
-    }
-    r.type = circ_rms <= options.profile_tolerance ? SlippageType::torus : SlippageType::revolution;
-    if (r.type == SlippageType::torus && circ.y() > 0.0) {
-      // The profile circle's centre (t₀, R) and radius: the torus, with its centre on the axis.
-      r.center = world(q + circ.x() * a);
-      r.primitive = Torus{a, *r.center, circ.y() * s, circ_r * s};
-    }
-    return r;
-  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> normal_spread(
+      set.matrix.bottomRightCorner<3, 3>());
+  std::optional<SlippageResult> read;
+  if (k == 3)
+    read = readThreeMotions(set, r, normal_spread.eigenvectors(), options);
+  else if (k == 2)
+    read = readTwoMotions(set, r, normal_spread.eigenvectors().col(0));
+  else
+    return readOneMotion(set, r, basis.col(0), options);
+  if (read)
+    return *read;
   SlippageResult d =
       degenerate("slippage: " + std::to_string(k) + " motions that fit no known surface");
   d.motions = k;
