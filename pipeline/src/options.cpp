@@ -67,12 +67,12 @@ std::string Option::rangeText() const {
   if (!lo_ && !hi_)
     return "";
   return std::string(lo_open_ ? "(" : "[") + (lo_ ? number(*lo_) : "-inf") + ", " +
-         (hi_ ? number(*hi_) + "]" : "inf)");
+         (hi_ ? number(*hi_) + (hi_open_ ? ")" : "]") : "inf)");
 }
 
 void Option::checkRange(double value) const {
   const bool low = lo_ && (lo_open_ ? !(value > *lo_) : !(value >= *lo_));
-  const bool high = hi_ && !(value <= *hi_);
+  const bool high = hi_ && (hi_open_ ? !(value < *hi_) : !(value <= *hi_));
   if (low || high)
     throw OptionValueError("must be in " + rangeText() + ", got " + number(value));
 }

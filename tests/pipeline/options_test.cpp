@@ -46,6 +46,22 @@ TEST(Options, FloatsRejectNaNAndOpenBounds) {
   EXPECT_DOUBLE_EQ(*r, 0.025);
 }
 
+TEST(Options, AnOpenUpperBoundExcludesItsValue) {
+  double angle = 0.0;
+  OptionSet set;
+  set.add("angle", angle, "help").atLeast(0).below(360);
+  EXPECT_EQ(set.find("angle")->rangeText(), "[0, 360)");
+  EXPECT_THROW(parse(set, "angle", "360"), OptionValueError);
+  parse(set, "angle", "359.5");
+  EXPECT_DOUBLE_EQ(angle, 359.5);
+  double top = 1.0;
+  set.add("top", top, "help").above(0).atMost(360);
+  EXPECT_EQ(set.find("top")->rangeText(), "(0, 360]");
+  EXPECT_THROW(parse(set, "top", "0"), OptionValueError);
+  parse(set, "top", "360");
+  EXPECT_DOUBLE_EQ(top, 360.0);
+}
+
 TEST(Options, EnumsUseTheirNameTable) {
   NeighborhoodMode mode = NeighborhoodMode::knn;
   OptionSet set;

@@ -41,10 +41,13 @@ class PrimitiveSamplingStage : public Stage {
         .atLeast(0);
     o.add("angle_min", angle_min_, "Cylinder, cone, torus: coverage around the axis starts here.")
         .unit("deg")
-        .range(0, 360);
-    o.add("angle_max", angle_max_, "Cylinder, cone, torus: coverage around the axis ends here.")
+        .atLeast(0)
+        .below(360);
+    o.add("angle_max", angle_max_,
+          "Cylinder, cone, torus: coverage around the axis ends here (above angle_min).")
         .unit("deg")
-        .range(0, 360);
+        .above(0)
+        .atMost(360);
     o.add("cap", cap_,
           "Sphere: half angle of the spherical cap around cap_axis (180: whole sphere).")
         .unit("deg")

@@ -35,12 +35,20 @@ class TorusSamplingStage : public Stage {
     o.add("alpha_min", alpha_min_,
           "Coverage around the tube starts here (α = 0: outer equator, 90: top).")
         .unit("deg")
-        .range(0, 360);
-    o.add("alpha_max", alpha_max_, "Coverage around the tube ends here.").unit("deg").range(0, 360);
+        .atLeast(0)
+        .below(360);
+    o.add("alpha_max", alpha_max_, "Coverage around the tube ends here (above alpha_min).")
+        .unit("deg")
+        .above(0)
+        .atMost(360);
     o.add("beta_min", beta_min_, "Coverage around the axis starts here (β = 0 on +x).")
         .unit("deg")
-        .range(0, 360);
-    o.add("beta_max", beta_max_, "Coverage around the axis ends here.").unit("deg").range(0, 360);
+        .atLeast(0)
+        .below(360);
+    o.add("beta_max", beta_max_, "Coverage around the axis ends here (above beta_min).")
+        .unit("deg")
+        .above(0)
+        .atMost(360);
     o.add("noise", p_.noise, "σ of Gaussian noise added to each coordinate.")
         .unit("units")
         .atLeast(0);

@@ -55,6 +55,17 @@ class Option {
     lo_ = lo;
     return *this;
   }
+  /// Exclusive upper bound (value < hi).
+  Option& below(double hi) {
+    hi_ = hi;
+    hi_open_ = true;
+    return *this;
+  }
+  /// Inclusive upper bound.
+  Option& atMost(double hi) {
+    hi_ = hi;
+    return *this;
+  }
   /// The option must be given.
   Option& required() {
     required_ = true;
@@ -72,6 +83,11 @@ class Option {
   const std::string& help() const { return help_; }
   const std::vector<std::string>& choices() const { return choices_; }
   bool isRequired() const { return required_; }
+  /// The numeric bounds (unset: none on that side); each excludes its value when open.
+  std::optional<double> low() const { return lo_; }
+  std::optional<double> high() const { return hi_; }
+  bool lowOpen() const { return lo_open_; }
+  bool highOpen() const { return hi_open_; }
   /// "[3, 10000]", "(0, inf)", "one of knn, radius" or "" when unconstrained.
   std::string rangeText() const;
 
@@ -96,7 +112,7 @@ class Option {
  private:
   std::string name_, type_, default_, help_, unit_;
   std::optional<double> lo_, hi_;
-  bool lo_open_ = false;
+  bool lo_open_ = false, hi_open_ = false;
   bool required_ = false;
   bool allow_empty_ = false;
   bool file_name_ = false;
