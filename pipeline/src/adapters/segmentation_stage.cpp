@@ -37,7 +37,8 @@ class SegmentationStage : public Stage {
         .above(0);
     o.add("max_angle", max_angle_, "Largest angle between a member's normal and the primitive's.")
         .unit("deg")
-        .range(0.1, 90);
+        .above(0)
+        .atMost(90);
     o.add("min_points", min_points_, "Smallest segment (unset: 20).").unit("points").range(3, 1e9);
     o.add("merge_factor", parameters_.merge_factor,
           "Adjacent segments merge when the best fit of their union has an RMS distance at most "
