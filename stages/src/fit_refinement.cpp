@@ -359,6 +359,7 @@ FitResult fitPrimitive(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3
                        const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
                        const Eigen::Ref<const Eigen::VectorXd>& weights,
                        const FitOptions& options) {
+  options.validate();
   FitResult r;
   switch (type) {
     case PrimitiveType::plane:

@@ -1,4 +1,5 @@
 #include "slipfit/robust_fit.h"
+#include "slipfit/exceptions.h"
 #include "slipfit/median.h"
 
 #include <algorithm>
@@ -39,9 +40,19 @@ FitResult closedForm(PrimitiveType type, const Points& points, const Points& nor
 
 }  // namespace
 
+void RobustOptions::validate() const {
+  if (threshold && !(*threshold > 0.0 && std::isfinite(*threshold)))
+    throw InvalidParameterError("robust fit: threshold must be > 0");
+  if (irls_iterations < 1)
+    throw InvalidParameterError("robust fit: irls_iterations must be at least 1");
+  if (ransac_iterations < 1)
+    throw InvalidParameterError("robust fit: ransac_iterations must be at least 1");
+}
+
 FitResult fitRobust(PrimitiveType type, const Points& points, const Points& normals,
                     const Weights& weights, const RobustOptions& robust, const FitOptions& options,
                     std::vector<char>* inliers, double* inlier_distance) {
+  robust.validate();
   const Eigen::Index n = points.cols();
   FitResult start = fitPrimitive(type, points, normals, weights, options);
   if (robust.method == RobustMethod::none || (!start.ok() && robust.method == RobustMethod::irls)) {

@@ -1,5 +1,6 @@
 #include "slipfit/slippage.h"
 
+#include "slipfit/exceptions.h"
 #include "slipfit/name_table.h"
 #include "slipfit/weighted_fit.h"
 
@@ -465,10 +466,24 @@ bool finiteResult(const SlippageResult& r) {
 
 }  // namespace
 
+void SlippageOptions::validate() const {
+  if (!(threshold > 0.0 && threshold < 1.0))
+    throw InvalidParameterError("slippage: threshold must be in (0, 1)");
+  if (!(profile_tolerance > 0.0 && std::isfinite(profile_tolerance)))
+    throw InvalidParameterError("slippage: profile_tolerance must be > 0");
+  if (!(pitch_tolerance >= 0.0 && std::isfinite(pitch_tolerance)))
+    throw InvalidParameterError("slippage: pitch_tolerance must be >= 0");
+  if (!(noise_floor >= 0.0 && std::isfinite(noise_floor)))
+    throw InvalidParameterError("slippage: noise_floor must be >= 0");
+  if (!(flat_radius >= 1.0 && std::isfinite(flat_radius)))
+    throw InvalidParameterError("slippage: flat_radius must be >= 1");
+}
+
 std::vector<SlippageResult> slippageReadings(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                                              const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
                                              const Eigen::Ref<const Eigen::VectorXd>& weights,
                                              const SlippageOptions& options) {
+  options.validate();
   std::vector<SlippageResult> readings = analyze(points, normals, weights, options);
   // Finite inputs can still overflow (weights × coordinates near the double range; found by
   // tests/fuzz): never hand out a NaN.

@@ -1,6 +1,7 @@
 #include "slipfit/weighted_fit.h"
 
 #include "slipfit/angle_units.h"
+#include "slipfit/exceptions.h"
 #include "slipfit/model_selection.h"
 #include "slipfit/name_table.h"
 
@@ -14,6 +15,13 @@
 #include <limits>
 
 namespace slipfit {
+
+void FitOptions::validate() const {
+  if (max_iterations < 1)
+    throw InvalidParameterError("fit: max_iterations must be at least 1");
+  if (!(degenerate_rcond >= 0.0 && degenerate_rcond < 1.0))
+    throw InvalidParameterError("fit: degenerate_rcond must be in [0, 1)");
+}
 
 std::string_view fitStatusName(FitStatus status) {
   return nameIn(kFitStatusNames, status);

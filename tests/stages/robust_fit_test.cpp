@@ -1,11 +1,49 @@
 #include "slipfit/robust_fit.h"
 
+#include "slipfit/exceptions.h"
 #include "slipfit/primitive_sampler.h"
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 namespace slipfit {
 namespace {
+
+TEST(RobustOptions, ValidateNamesTheFieldAndFitRobustChecksIt) {
+  EXPECT_NO_THROW(RobustOptions{}.validate());
+  EXPECT_NO_THROW(FitOptions{}.validate());
+  const auto refused = [](const auto& options, const std::string& field) {
+    try {
+      options.validate();
+      ADD_FAILURE() << field << " was accepted";
+    } catch (const InvalidParameterError& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  RobustOptions r;
+  r.threshold = 0.0;
+  refused(r, "threshold");
+  r = {};
+  r.irls_iterations = 0;
+  refused(r, "irls_iterations");
+  r = {};
+  r.ransac_iterations = 0;
+  refused(r, "ransac_iterations");
+  FitOptions f;
+  f.max_iterations = 0;
+  refused(f, "max_iterations");
+  f = {};
+  f.degenerate_rcond = 1.0;
+  refused(f, "degenerate_rcond");
+  const Eigen::Matrix3Xd p = Eigen::Matrix3Xd::Random(3, 20);
+  r = {};
+  r.ransac_iterations = 0;
+  EXPECT_THROW(fitRobust(PrimitiveType::plane, p, p, Eigen::VectorXd::Ones(20), r),
+               InvalidParameterError);
+  EXPECT_THROW(fitPrimitive(PrimitiveType::plane, p, p, Eigen::VectorXd::Ones(20), f),
+               InvalidParameterError);
+}
 
 struct Noisy {
   Eigen::Matrix3Xd x, n;

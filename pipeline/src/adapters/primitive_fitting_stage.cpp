@@ -96,6 +96,8 @@ class PrimitiveFittingStage : public Stage {
     robust_.method = robust_choice_ == FitRobust::automatic
                          ? (labels_.empty() ? RobustMethod::ransac : RobustMethod::none)
                          : static_cast<RobustMethod>(static_cast<int>(robust_choice_) - 1);
+    options_.validate();
+    robust_.validate();
   }
 
   void run(PointData& data, RunContext& context) override {

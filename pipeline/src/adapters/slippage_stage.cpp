@@ -53,6 +53,8 @@ class SlippageStage : public Stage {
         .fileName();
   }
 
+  void prepare() override { options_.validate(); }
+
   DataFlow flow() const override {
     return {
         mode_ == SlippageMode::local ? (kPoints | kNormals | kNeighborhoods) : (kPoints | kNormals),

@@ -30,6 +30,10 @@ struct RobustOptions {
   int irls_iterations = 30;
   int ransac_iterations = 300;
   std::uint64_t seed = 1;
+
+  /// Throws InvalidParameterError naming the field: threshold > 0 when set, at least one IRLS
+  /// iteration and one RANSAC hypothesis.
+  void validate() const;
 };
 
 /// Fits \a type robustly. The returned fit is computed on the final weights wᵢ·ψᵢ (ψ the biweight);

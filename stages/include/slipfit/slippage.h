@@ -66,6 +66,10 @@ struct SlippageOptions {
   /// A three-motion set that fits both a plane and a sphere whose radius exceeds this many RMS
   /// radii of the point set is a plane (the sagitta is under 1 % of the patch).
   double flat_radius = 50.0;
+
+  /// Throws InvalidParameterError naming the field: threshold in (0, 1), profile_tolerance > 0,
+  /// pitch_tolerance and noise_floor ≥ 0, flat_radius ≥ 1, all finite.
+  void validate() const;
 };
 
 struct SlippageResult {

@@ -56,6 +56,10 @@ struct FitOptions {
   int max_iterations = 100;
   /// Below this reciprocal condition number the closed form is declared degenerate.
   double degenerate_rcond = 1e-10;
+
+  /// Throws InvalidParameterError naming the field: max_iterations ≥ 1, degenerate_rcond in
+  /// [0, 1).
+  void validate() const;
 };
 
 /// Closed-form estimates (no refinement, and no loss: loss_* and the distances are filled by
