@@ -83,6 +83,8 @@ std::string dataBitsText(unsigned bits) {
   add(kPoints, "points");
   add(kNormals, "normals");
   add(kNeighborhoods, "neighborhoods");
+  add(kLocalSlippage,
+      "the local slippage (slippage_type, from slippage_classification with mode: local)");
   return s;
 }
 

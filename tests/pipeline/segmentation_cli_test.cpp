@@ -172,8 +172,14 @@ TEST(SegmentationCli, NeedsTheLocalSlippageFields) {
                                               "  - {type: segmentation}\n"
                                               "output: {dir: " +
                                               out + "}\n");
+  // A need of the data flow: `validate` refuses the config (a config error: exit 2), and so does
+  // `run`, before any stage runs.
+  const CliResult v = runSlipfit("validate " + cfg);
+  EXPECT_EQ(v.code, 2);
+  EXPECT_THAT(v.err, HasSubstr("needs the local slippage (slippage_type"));
+  EXPECT_EQ(std::count(v.err.begin(), v.err.end(), '\n'), 1);
   const CliResult r = runSlipfit("run " + cfg);
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, 2);
   EXPECT_THAT(r.err, HasSubstr("slippage_type"));
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
   EXPECT_FALSE(std::filesystem::exists(out + "/segments.ply"));

@@ -75,7 +75,9 @@ class SegmentationStage : public Stage {
     render_parameters_.validate();
   }
 
-  DataFlow flow() const override { return {kPoints | kNormals | kNeighborhoods, 0u}; }
+  DataFlow flow() const override {
+    return {kPoints | kNormals | kNeighborhoods | kLocalSlippage, 0u};
+  }
 
   std::vector<std::string> outputFiles() const override {
     std::vector<std::string> names = {report_, segments_};
@@ -266,10 +268,11 @@ class SegmentationStage : public Stage {
 }  // namespace
 
 StageInfo segmentationInfo() {
-  return {"segmentation",
-          "segments the cloud into planes, spheres, cylinders and cones by region growing from "
-          "the local slippage; writes primitives.yaml, segments.ply and a PNG picture",
-          [] { return std::unique_ptr<Stage>(new SegmentationStage); }};
+  return {
+      "segmentation",
+      "segments the cloud into planes, spheres, cylinders, cones and tori by region growing from "
+      "the local slippage; writes primitives.yaml, segments.ply and a PNG picture",
+      [] { return std::unique_ptr<Stage>(new SegmentationStage); }};
 }
 
 }  // namespace slipfit::pipeline::adapters

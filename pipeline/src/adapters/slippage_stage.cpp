@@ -56,9 +56,9 @@ class SlippageStage : public Stage {
   void prepare() override { options_.validate(); }
 
   DataFlow flow() const override {
-    return {
-        mode_ == SlippageMode::local ? (kPoints | kNormals | kNeighborhoods) : (kPoints | kNormals),
-        0u};
+    if (mode_ == SlippageMode::local)
+      return {kPoints | kNormals | kNeighborhoods, kLocalSlippage};
+    return {kPoints | kNormals, 0u};
   }
 
   std::vector<std::string> outputFiles() const override {

@@ -30,6 +30,9 @@ enum DataBits : unsigned {
   kPoints = 1u << 0,
   kNormals = 1u << 1,
   kNeighborhoods = 1u << 2,
+  /// The per-point local slippage fields (slippage_type, ...) of slippage_classification's local
+  /// mode: the segmentation's seeds.
+  kLocalSlippage = 1u << 3,
 };
 
 /// Where a range sensor stood: a PCD's VIEWPOINT (PCL's sensor_origin_ / sensor_orientation_),
