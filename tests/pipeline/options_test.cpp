@@ -2,6 +2,7 @@
 #include "slipfit/pipeline/errors.h"
 
 #include "slipfit/neighborhood_selection.h"
+#include "slipfit/primitives.h"
 
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
@@ -60,6 +61,21 @@ TEST(Options, AnOpenUpperBoundExcludesItsValue) {
   EXPECT_THROW(parse(set, "top", "0"), OptionValueError);
   parse(set, "top", "360");
   EXPECT_DOUBLE_EQ(top, 360.0);
+}
+
+TEST(Options, AnEnumTheStageMayChooseIsUnsetByItsAutomaticName) {
+  std::optional<PrimitiveType> type;
+  OptionSet set;
+  set.add("primitive", type, "auto", kPrimitiveTypeNames, "help");
+  EXPECT_EQ(set.find("primitive")->defaultText(), "auto");
+  EXPECT_EQ(set.find("primitive")->rangeText(),
+            "one of auto, plane, sphere, cylinder, cone, torus");
+  parse(set, "primitive", "cone");
+  EXPECT_EQ(type, PrimitiveType::cone);
+  parse(set, "primitive", "auto");
+  EXPECT_FALSE(type.has_value());
+  EXPECT_THROW(parse(set, "primitive", "cylindre"), OptionValueError);
+  EXPECT_FALSE(type.has_value()) << "a rejected value must not be stored";
 }
 
 TEST(Options, EnumsUseTheirNameTable) {

@@ -23,35 +23,13 @@ namespace slipfit::pipeline::adapters {
 
 namespace {
 
-// auto, then the primitive types in PrimitiveType's order (fixedType() relies on it).
-enum class FitType { automatic, plane, sphere, cylinder, cone, torus };
-constexpr std::array<std::pair<FitType, std::string_view>, 6> kFitTypeNames{{
-    {FitType::automatic, "auto"},
-    {FitType::plane, kPrimitiveTypeNames[0].second},
-    {FitType::sphere, kPrimitiveTypeNames[1].second},
-    {FitType::cylinder, kPrimitiveTypeNames[2].second},
-    {FitType::cone, kPrimitiveTypeNames[3].second},
-    {FitType::torus, kPrimitiveTypeNames[4].second},
-}};
-static_assert(static_cast<int>(FitType::torus) - 1 == static_cast<int>(PrimitiveType::torus));
-
-// auto, then RobustMethod's values in its order (robustMethod() relies on it).
-enum class FitRobust { automatic, none, irls, ransac };
-constexpr std::array<std::pair<FitRobust, std::string_view>, 4> kFitRobustNames{{
-    {FitRobust::automatic, "auto"},
-    {FitRobust::none, kRobustMethodNames[0].second},
-    {FitRobust::irls, kRobustMethodNames[1].second},
-    {FitRobust::ransac, kRobustMethodNames[2].second},
-}};
-static_assert(static_cast<int>(FitRobust::ransac) - 1 == static_cast<int>(RobustMethod::ransac));
-
 /// Below this share of the points a fit is reported as not describing the cloud.
 constexpr double kFewInliers = 0.5;
 
 class PrimitiveFittingStage : public Stage {
  public:
   void declare(OptionSet& o) override {
-    o.add("primitive", type_, kFitTypeNames,
+    o.add("primitive", type_, "auto", kPrimitiveTypeNames,
           "Primitive to fit; auto fits every type and keeps the simplest adequate one (RMS "
           "within 25 % of the best, flat limits recognised: docs/THEORY.md §4.4), as the "
           "segmentation and the whole-cloud classification do.");
@@ -71,7 +49,7 @@ class PrimitiveFittingStage : public Stage {
     o.add("min_points", min_points_, "Labels with fewer points are reported, not fitted.")
         .unit("points")
         .range(3, 1e9);
-    o.add("robust", robust_choice_, kFitRobustNames,
+    o.add("robust", robust_choice_, "auto", kRobustMethodNames,
           "auto: ransac for a whole-cloud fit (a scan holds more than one surface and outliers), "
           "none per label; none: plain weighted fit; irls: Tukey-biweight reweighting; ransac: "
           "best of seeded minimal-sample hypotheses, then irls. Robust with primitive auto: the "
@@ -85,17 +63,16 @@ class PrimitiveFittingStage : public Stage {
   }
 
   DataFlow flow() const override {
-    const bool normals =
-        type_ == FitType::cylinder || type_ == FitType::cone || type_ == FitType::torus;
+    const bool normals = type_ && (*type_ == PrimitiveType::cylinder ||
+                                   *type_ == PrimitiveType::cone || *type_ == PrimitiveType::torus);
     return {normals ? (kPoints | kNormals) : kPoints, 0u};
   }
 
   std::vector<std::string> outputFiles() const override { return {report_}; }
 
   void prepare() override {
-    robust_.method = robust_choice_ == FitRobust::automatic
-                         ? (labels_.empty() ? RobustMethod::ransac : RobustMethod::none)
-                         : static_cast<RobustMethod>(static_cast<int>(robust_choice_) - 1);
+    robust_.method =
+        robust_choice_.value_or(labels_.empty() ? RobustMethod::ransac : RobustMethod::none);
     options_.validate();
     robust_.validate();
   }
@@ -151,10 +128,10 @@ class PrimitiveFittingStage : public Stage {
                             std::to_string(min_points_);
       } else if (robust_.method != RobustMethod::none) {
         record.fit = robustFit(points, normals, w, context.seed, &inliers, &record.inlier_distance);
-      } else if (type_ == FitType::automatic) {
+      } else if (!type_) {
         record.fit = fitAuto(points, normals, w, options_);
       } else {
-        record.fit = fitPrimitive(fixedType(), points, normals, w, options_);
+        record.fit = fitPrimitive(*type_, points, normals, w, options_);
       }
       if (!record.fit.ok() && label < 0)
         throw RunError(record.fit.reason);
@@ -237,10 +214,6 @@ class PrimitiveFittingStage : public Stage {
     return 3.0 * noise;
   }
 
-  PrimitiveType fixedType() const {
-    return static_cast<PrimitiveType>(static_cast<int>(type_) - 1);
-  }
-
   /// The robust fit of the fixed type, or with auto the type with the most inlier weight within a
   /// common distance — the smallest of the types' own inlier distances, so that a poor type cannot
   /// win by estimating a wide residual scale — and within 1 % of that, the one with fewer
@@ -250,8 +223,8 @@ class PrimitiveFittingStage : public Stage {
                       double* limit) const {
     RobustOptions robust = robust_;
     robust.seed = seed;
-    if (type_ != FitType::automatic)
-      return fitRobust(fixedType(), points, normals, w, robust, options_, inliers, limit);
+    if (type_)
+      return fitRobust(*type_, points, normals, w, robust, options_, inliers, limit);
     std::vector<FitResult> fits;
     double common = std::numeric_limits<double>::infinity();
     for (const auto& [type, name] : kPrimitiveTypeNames) {
@@ -296,9 +269,9 @@ class PrimitiveFittingStage : public Stage {
     return s.str();
   }
 
-  FitType type_ = FitType::automatic;
-  FitRobust robust_choice_ = FitRobust::automatic;
-  RobustOptions robust_;  // method resolved in prepare()
+  std::optional<PrimitiveType> type_;          // unset: auto
+  std::optional<RobustMethod> robust_choice_;  // unset: auto
+  RobustOptions robust_;                       // method resolved in prepare()
   std::string labels_, weights_;
   FitOptions options_;
   std::optional<double> inlier_distance_;

@@ -157,6 +157,36 @@ class OptionSet {
         .choices(std::move(choices));
   }
 
+  /// An enumeration the stage may choose itself: \a automatic (e.g. "auto") leaves \a field
+  /// unset, every other name is a value of the table.
+  template <typename E, std::size_t N>
+  Option& add(std::string name, std::optional<E>& field, std::string_view automatic,
+              const std::array<std::pair<E, std::string_view>, N>& names, std::string help) {
+    std::vector<std::string> choices{std::string(automatic)};
+    std::string default_text(automatic);
+    for (const auto& [value, text] : names) {
+      choices.emplace_back(text);
+      if (field && value == *field)
+        default_text = std::string(text);
+    }
+    auto parser = [&field, names, automatic = std::string(automatic)](const YAML::Node& node,
+                                                                      const Option& option) {
+      const std::string text = scalarText(node, option);
+      if (text == automatic) {
+        field.reset();
+        return;
+      }
+      for (const auto& [value, t] : names)
+        if (t == text) {
+          field = value;
+          return;
+        }
+      throwNotAChoice(text, option);
+    };
+    return push(std::move(name), "enum", std::move(default_text), std::move(help), parser)
+        .choices(std::move(choices));
+  }
+
   const Option* find(std::string_view name) const;
   const std::vector<std::unique_ptr<Option>>& all() const { return options_; }
   /// "a, b, c": the names, for error messages.
