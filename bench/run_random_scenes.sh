@@ -20,8 +20,9 @@ points=${POINTS:-1000000}
 noise=${NOISE:-0.002}
 shapes=${SHAPES:-75}
 slipfit=$build/pipeline/slipfit
-cgal=$build/bench/cgal_ransac
 score=$build/bench/score_segmentation
+# shellcheck source=bench/ensure_cgal.sh
+source "$(dirname "$0")/ensure_cgal.sh"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 sigma=$(echo "$noise * 1.1" | bc -l)

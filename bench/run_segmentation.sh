@@ -16,11 +16,9 @@ build=${1:-build}
 shift || true
 sizes=${*:-100000 1000000}
 slipfit=$build/pipeline/slipfit
-cgal=$build/bench/cgal_ransac
 score=$build/bench/score_segmentation
-if [ ! -x "$cgal" ]; then
-  echo "CGAL peer missing: apt-get install libcgal-dev, then re-run cmake and build cgal_ransac" >&2
-fi
+# shellcheck source=bench/ensure_cgal.sh
+source "$(dirname "$0")/ensure_cgal.sh"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
