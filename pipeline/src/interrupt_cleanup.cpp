@@ -1,10 +1,13 @@
 #include "interrupt_cleanup.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <random>
 
 namespace slipfit::pipeline::detail {
 
@@ -67,6 +70,35 @@ int registerTemporary(const std::string& path) {
       return i;
     }
   }
+  return -1;
+}
+
+int createTemporary(const std::string& prefix, const std::string& suffix, std::string& path,
+                    int& slot) {
+  static constexpr char kLetters[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+  static thread_local std::mt19937_64 random(std::random_device{}());
+  std::uniform_int_distribution<std::size_t> pick(0, sizeof kLetters - 2);
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    path = prefix;
+    for (int i = 0; i < 6; ++i)
+      path += kLetters[pick(random)];
+    path += suffix;
+    // Registered first: a signal from here on unlinks the path, which is harmless before the
+    // file exists (and the process then exits before creating it).
+    slot = registerTemporary(path);
+    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    if (fd >= 0)
+      return fd;
+    const int error = errno;
+    releaseTemporary(slot);
+    slot = -1;
+    if (error != EEXIST) {
+      errno = error;
+      return -1;
+    }
+  }
+  errno = EEXIST;
   return -1;
 }
 

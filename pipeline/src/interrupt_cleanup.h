@@ -14,6 +14,13 @@ void installInterruptCleanup();
 int registerTemporary(const std::string& path);
 void releaseTemporary(int slot);
 
+/// Creates a new file (O_EXCL: never an existing file, never through a symlink) at \a prefix +
+/// six random characters + \a suffix, registered *before* it exists, so that no signal can come
+/// between its creation and its registration and leave it behind. Returns the descriptor (or −1,
+/// errno set) and sets \a path and \a slot.
+int createTemporary(const std::string& prefix, const std::string& suffix, std::string& path,
+                    int& slot);
+
 /// After the renames of a commit: a later signal no longer says that nothing was written.
 void noteOutputsCommitted();
 

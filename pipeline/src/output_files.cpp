@@ -88,17 +88,14 @@ void OutputFiles::add(const std::string& name,
   // A fresh name created exclusively (O_EXCL: never an existing file, never through a symlink
   // planted there), in the output directory so that the final rename is atomic; the extension
   // stays last so that writers that look at it (PLY, OFF) still recognise the format.
-  const std::string suffix = final_path.extension().string();
-  std::string pattern =
-      (fs::path(dir_) / ("." + final_path.stem().string() + ".tmp.XXXXXX")).string() + suffix;
-  const int fd = ::mkstemps(pattern.data(), static_cast<int>(suffix.size()));
+  Pending pending;
+  const int fd = detail::createTemporary(
+      (fs::path(dir_) / ("." + final_path.stem().string() + ".tmp.")).string(),
+      final_path.extension().string(), pending.tmp, pending.slot);
   if (fd < 0)
     throw RunError("output '" + final_path.string() +
                    "': cannot create a file in output.dir: " + detail::errnoText(errno));
-  Pending pending;
-  pending.tmp = pattern;
   pending.final_path = final_path.string();
-  pending.slot = detail::registerTemporary(pending.tmp);
   struct stat created = {};
   const bool stat_ok = ::fstat(fd, &created) == 0 && ::fchmod(fd, defaultFileMode()) == 0;
   ::close(fd);
