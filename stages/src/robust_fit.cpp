@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 
 namespace slipfit {
 
@@ -42,11 +43,14 @@ FitResult closedForm(PrimitiveType type, const Points& points, const Points& nor
 
 void RobustOptions::validate() const {
   if (threshold && !(*threshold > 0.0 && std::isfinite(*threshold)))
-    throw InvalidParameterError("robust fit: threshold must be > 0");
+    throw InvalidParameterError("robust fit: threshold must be > 0, got " +
+                                std::to_string(*threshold));
   if (irls_iterations < 1)
-    throw InvalidParameterError("robust fit: irls_iterations must be at least 1");
+    throw InvalidParameterError("robust fit: irls_iterations must be at least 1, got " +
+                                std::to_string(irls_iterations));
   if (ransac_iterations < 1)
-    throw InvalidParameterError("robust fit: ransac_iterations must be at least 1");
+    throw InvalidParameterError("robust fit: ransac_iterations must be at least 1, got " +
+                                std::to_string(ransac_iterations));
 }
 
 FitResult fitRobust(PrimitiveType type, const Points& points, const Points& normals,
