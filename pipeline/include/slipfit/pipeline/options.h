@@ -3,6 +3,8 @@
 /// unit, range, help); parsing, validation, `slipfit describe` and the docs all read that one
 /// declaration (the PDAL addArgs model).
 
+#include "slipfit/name_table.h"
+
 #include <Eigen/Core>
 
 #include <array>
@@ -39,33 +41,15 @@ class Option {
     return *this;
   }
   /// Inclusive numeric range.
-  Option& range(double lo, double hi) {
-    lo_ = lo;
-    hi_ = hi;
-    return *this;
-  }
+  Option& range(double lo, double hi) { return lowBound(lo, false).highBound(hi, false); }
   /// Exclusive lower bound (value > lo).
-  Option& above(double lo) {
-    lo_ = lo;
-    lo_open_ = true;
-    return *this;
-  }
+  Option& above(double lo) { return lowBound(lo, true); }
   /// Inclusive lower bound.
-  Option& atLeast(double lo) {
-    lo_ = lo;
-    return *this;
-  }
+  Option& atLeast(double lo) { return lowBound(lo, false); }
   /// Exclusive upper bound (value < hi).
-  Option& below(double hi) {
-    hi_ = hi;
-    hi_open_ = true;
-    return *this;
-  }
+  Option& below(double hi) { return highBound(hi, true); }
   /// Inclusive upper bound.
-  Option& atMost(double hi) {
-    hi_ = hi;
-    return *this;
-  }
+  Option& atMost(double hi) { return highBound(hi, false); }
   /// The option must be given.
   Option& required() {
     required_ = true;
@@ -110,6 +94,17 @@ class Option {
   bool isFileName() const { return file_name_; }
 
  private:
+  Option& lowBound(double lo, bool open) {
+    lo_ = lo;
+    lo_open_ = open;
+    return *this;
+  }
+  Option& highBound(double hi, bool open) {
+    hi_ = hi;
+    hi_open_ = open;
+    return *this;
+  }
+
   std::string name_, type_, default_, help_, unit_;
   std::optional<double> lo_, hi_;
   bool lo_open_ = false, hi_open_ = false;
@@ -137,24 +132,11 @@ class OptionSet {
   template <typename E, std::size_t N>
   Option& add(std::string name, E& field,
               const std::array<std::pair<E, std::string_view>, N>& names, std::string help) {
-    std::vector<std::string> choices;
-    std::string default_text;
-    for (const auto& [value, text] : names) {
-      choices.emplace_back(text);
-      if (value == field)
-        default_text = std::string(text);
-    }
     auto parser = [&field, names](const YAML::Node& node, const Option& option) {
-      const std::string text = scalarText(node, option);
-      for (const auto& [value, t] : names)
-        if (t == text) {
-          field = value;
-          return;
-        }
-      throwNotAChoice(text, option);
+      field = valueNamed(names, scalarText(node, option), option);
     };
-    return push(std::move(name), "enum", std::move(default_text), std::move(help), parser)
-        .choices(std::move(choices));
+    return push(std::move(name), "enum", std::string(nameIn(names, field)), std::move(help), parser)
+        .choices(namesOf(names, {}));
   }
 
   /// An enumeration the stage may choose itself: \a automatic (e.g. "auto") leaves \a field
@@ -162,29 +144,17 @@ class OptionSet {
   template <typename E, std::size_t N>
   Option& add(std::string name, std::optional<E>& field, std::string_view automatic,
               const std::array<std::pair<E, std::string_view>, N>& names, std::string help) {
-    std::vector<std::string> choices{std::string(automatic)};
-    std::string default_text(automatic);
-    for (const auto& [value, text] : names) {
-      choices.emplace_back(text);
-      if (field && value == *field)
-        default_text = std::string(text);
-    }
     auto parser = [&field, names, automatic = std::string(automatic)](const YAML::Node& node,
                                                                       const Option& option) {
       const std::string text = scalarText(node, option);
-      if (text == automatic) {
+      if (text == automatic)
         field.reset();
-        return;
-      }
-      for (const auto& [value, t] : names)
-        if (t == text) {
-          field = value;
-          return;
-        }
-      throwNotAChoice(text, option);
+      else
+        field = valueNamed(names, text, option);
     };
-    return push(std::move(name), "enum", std::move(default_text), std::move(help), parser)
-        .choices(std::move(choices));
+    return push(std::move(name), "enum", std::string(field ? nameIn(names, *field) : automatic),
+                std::move(help), parser)
+        .choices(namesOf(names, {std::string(automatic)}));
   }
 
   const Option* find(std::string_view name) const;
@@ -195,6 +165,24 @@ class OptionSet {
   /// Helpers shared by the parsers.
   static std::string scalarText(const YAML::Node& node, const Option& option);
   [[noreturn]] static void throwNotAChoice(const std::string& text, const Option& option);
+
+  /// The value of \a names called \a text; throws OptionValueError listing the choices if none.
+  template <typename E, std::size_t N>
+  static E valueNamed(const std::array<std::pair<E, std::string_view>, N>& names,
+                      const std::string& text, const Option& option) {
+    for (const auto& [value, t] : names)
+      if (t == text)
+        return value;
+    throwNotAChoice(text, option);
+  }
+  /// \a first, then the names of the table, in its order.
+  template <typename E, std::size_t N>
+  static std::vector<std::string> namesOf(
+      const std::array<std::pair<E, std::string_view>, N>& names, std::vector<std::string> first) {
+    for (const auto& [value, text] : names)
+      first.emplace_back(text);
+    return first;
+  }
 
  private:
   Option& push(std::string name, std::string type, std::string default_text, std::string help,
