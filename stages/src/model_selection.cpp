@@ -50,6 +50,14 @@ bool isNearlyDegenerate(const Primitive& primitive,
   return false;
 }
 
+bool jointModelIsBetter(double rss_joint, double rss_separate, std::size_t n,
+                        int saved_parameters) {
+  if (!(rss_separate > 0.0) || n < 2)
+    return rss_joint <= rss_separate;
+  const auto count = static_cast<double>(n);
+  return count * std::log(rss_joint / rss_separate) <= saved_parameters * std::log(count);
+}
+
 int parameterCount(PrimitiveType type) {
   switch (type) {
     case PrimitiveType::plane:

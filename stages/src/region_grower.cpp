@@ -44,16 +44,20 @@ double RegionGrower::smallestTolerance(const std::vector<int>& members) const {
   return floor;
 }
 
-FitResult RegionGrower::fitByPrecision(PrimitiveType type, const std::vector<int>& members) const {
-  Eigen::Matrix3Xd p, n;
-  gather(members, true, p, n, kSubset);
-  Eigen::VectorXd w(p.cols());
+Eigen::VectorXd RegionGrower::precisionWeights(const std::vector<int>& members) const {
+  Eigen::VectorXd w(static_cast<Eigen::Index>(members.size()));
   const double floor = smallestTolerance(members);
   for (Eigen::Index j = 0; j < w.size(); ++j) {
     const double relative = floor / tolerance(members[static_cast<std::size_t>(j)]);
     w(j) = relative * relative;
   }
-  return fitPrimitive(type, p, n, w);
+  return w;
+}
+
+FitResult RegionGrower::fitByPrecision(PrimitiveType type, const std::vector<int>& members) const {
+  Eigen::Matrix3Xd p, n;
+  gather(members, true, p, n, kSubset);
+  return fitPrimitive(type, p, n, precisionWeights(members));
 }
 
 FitResult RegionGrower::fitBest(const std::vector<int>& members, bool refine) const {

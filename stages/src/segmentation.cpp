@@ -34,6 +34,8 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
   kernel.refineBoundaries();
   kernel.joinCreases();
   kernel.recoverSmallFaces();
+  kernel.absorbFragments();
+  kernel.mergeSettledRegions();
   kernel.dropNonSurfaces();
   return kernel.finalize();
 }

@@ -3,6 +3,7 @@
 // SACSegmentation is an oracle, the largest plane of the scene (the table) agrees with it within
 // 0.5°. The scans
 // are read from ../shared; the test says so and skips when the folder is absent.
+#include "ransac_plane_oracle.h"
 #include "run_cli.h"
 #include "slipfit/pipeline/cloud_io.h"
 
@@ -10,7 +11,6 @@
 #include <gtest/gtest.h>
 #include <pcl/features/normal_3d.h>
 #include <pcl/search/kdtree.h>
-#include <pcl/segmentation/sac_segmentation.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -31,23 +31,6 @@ struct Scan {
 std::string scanName(const ::testing::TestParamInfo<Scan>& info) {
   std::string name = info.param.file;
   return name.substr(0, name.find('.'));
-}
-
-/// PCL's RANSAC plane (1000 iterations, refined on its inliers) as a x + b y + c z + d = 0.
-Eigen::Vector4d pclPlane(const pcl::PointCloud<pcl::PointNormal>::ConstPtr& cloud, double threshold,
-                         pcl::PointIndices& inliers) {
-  pcl::SACSegmentation<pcl::PointNormal> sac;
-  sac.setModelType(pcl::SACMODEL_PLANE);
-  sac.setMethodType(pcl::SAC_RANSAC);
-  sac.setDistanceThreshold(threshold);
-  sac.setMaxIterations(1000);
-  sac.setOptimizeCoefficients(true);
-  sac.setInputCloud(cloud);
-  pcl::ModelCoefficients c;
-  sac.segment(inliers, c);
-  if (c.values.size() != 4)
-    return Eigen::Vector4d::Zero();
-  return {c.values[0], c.values[1], c.values[2], c.values[3]};
 }
 
 class RealScanCli : public ::testing::TestWithParam<Scan> {};
@@ -90,9 +73,9 @@ TEST_P(RealScanCli, DemoRunsWithoutNanAndItsLargestPlaneIsPclsRansacPlane) {
   if (scan.threshold == 0.0)
     return;
 
-  // PCL's RANSAC plane on the same points (refined on its inliers).
-  pcl::PointIndices inliers;
-  const Eigen::Vector3d oracle = pclPlane(segments.cloud, scan.threshold, inliers).head<3>();
+  // PCL's RANSAC plane on the same points (refined on its inliers), one run and the mean of 100.
+  const RansacPlane oracle = ransacPlane<pcl::PointNormal>(segments.cloud, scan.threshold);
+  const pcl::PointIndices& inliers = oracle.inliers;
   ASSERT_GT(inliers.indices.size(), segments.size() / 10);
 
   // The segment holding most of PCL's inliers, and its plane in primitives.yaml.
@@ -114,22 +97,27 @@ TEST_P(RealScanCli, DemoRunsWithoutNanAndItsLargestPlaneIsPclsRansacPlane) {
   ASSERT_EQ(plane["type"].as<std::string>(), "plane") << "segment " << label;
   const Eigen::Vector3d normal(plane["normal"][0].as<double>(), plane["normal"][1].as<double>(),
                                plane["normal"][2].as<double>());
-  const double angle =
-      std::acos(std::min(1.0, std::abs(normal.normalized().dot(oracle.normalized())))) * 180.0 /
-      3.14159265358979323846;
+  const double angle = unsignedAngleDegrees(normal, oracle.normal);
+  const double to_consensus = unsignedAngleDegrees(
+      normal, ransacConsensusNormal<pcl::PointNormal>(segments.cloud, scan.threshold, 100));
   std::cout << scan.file << ": segment " << label << " holds " << votes[label] << " of PCL's "
             << inliers.indices.size() << " inliers; its plane is " << angle
-            << "° from PCL's RANSAC plane\n";
+            << "° from PCL's RANSAC plane, " << to_consensus << "° from the mean of 100 runs; "
+            << report["primitives"].size() << " segments\n";
   EXPECT_LT(angle, 0.125);
-  EXPECT_GE(static_cast<double>(votes[label]), 0.9 * static_cast<double>(inliers.indices.size()));
+  EXPECT_LT(to_consensus, 0.11);
+  EXPECT_GE(static_cast<double>(votes[label]), 0.975 * static_cast<double>(inliers.indices.size()));
+  EXPECT_LE(report["primitives"].size(), 70u) << "fragments of the table are segments of their own";
 }
 
-// The milk carton's table lies 0.6–1.8 m away, depth steps 1–12 mm: RANSAC at 1 cm (measured:
-// 0.120° from slipfit's plane, which holds 92 % of RANSAC's inliers; the 0.1° is not met,
-// see tests/stages/real_scan_test.cpp). The office's largest plane is a wall 5 m away with depth
-// steps of 5 cm: PCL's RANSAC plane there turns with its threshold — 3.6° from slipfit's at 1–3 cm
-// (one depth slice, z = 5.05), 1.05° at 5 cm, 4.5° at 8 cm — so it is no oracle; the office
-// checks the run and the outputs only.
+// The milk carton's table lies 0.6–1.8 m away, depth steps 1–12 mm: RANSAC at 1 cm. Measured:
+// slipfit's plane 0.121° from that run and 0.106° from the mean of 100 runs on the points in 100
+// orders (one run lies up to 0.23° from that mean; the run in the file's order 0.16°); the table
+// segment holds 97.9 % of the run's inliers; 65 segments (184, and 92 %, before fragments of the
+// table were absorbed). The issues' 0.1° is not met, see tests/stages/real_scan_test.cpp. The
+// office's largest plane is a wall 5 m away with depth steps of 5 cm: PCL's RANSAC plane there
+// turns with its threshold — 3.6° from slipfit's at 1–3 cm (one depth slice, z = 5.05), 1.05° at
+// 5 cm, 4.5° at 8 cm — so it is no oracle; the office checks the run and the outputs only.
 INSTANTIATE_TEST_SUITE_P(Scans, RealScanCli,
                          ::testing::Values(Scan{"milk_cartoon_all_small_clorox.pcd", 0.01},
                                            Scan{"office1.pcd", 0.0}),
@@ -157,11 +145,10 @@ TEST(RealScanCli, FitPrimitiveOnATableScanReturnsPclsPlane) {
                        fit["normal"][2].as<double>(), fit["d"].as<double>());
 
   const pipeline::PointData cloud = pipeline::readCloud(path, pipeline::NanPolicy::skip);
-  pcl::PointIndices inliers;
-  // PCL's plane is a x + b y + c z + d = 0, slipfit's n·x = d: the same plane has the opposite d.
-  Eigen::Vector4d theirs = pclPlane(cloud.cloud, 0.01, inliers);
-  theirs[3] = -theirs[3];
-  theirs /= theirs.head<3>().norm();
+  // PCL's plane is n·x + d = 0, slipfit's n·x = d: the same plane has the opposite d.
+  const RansacPlane pcl_plane = ransacPlane<pcl::PointNormal>(cloud.cloud, 0.01);
+  Eigen::Vector4d theirs(pcl_plane.normal.x(), pcl_plane.normal.y(), pcl_plane.normal.z(),
+                         -pcl_plane.d);
   if (theirs.head<3>().dot(ours.head<3>()) < 0)
     theirs = -theirs;
   std::size_t near = 0;

@@ -154,5 +154,27 @@ TEST(FitAutoLimits, SphereFarWiderThanItsPointsIsAPlane) {
   EXPECT_EQ(autoType(sample(p)), PrimitiveType::sphere);
 }
 
+// jointModelIsBetter is BIC for one primitive against two: with n = 10,000 and a sphere's 4
+// parameters saved, the joint model may raise the residual sum of squares by the factor
+// exp(4 ln n / n) = 1.003691 and no more.
+TEST(JointModel, BicAllowsTheRiseThatTheSavedParametersPayFor) {
+  const std::size_t n = 10000;
+  const double bound = std::exp(4.0 * std::log(10000.0) / 10000.0);
+  EXPECT_NEAR(bound, 1.003691, 1e-6);
+  EXPECT_TRUE(jointModelIsBetter(1.0, 1.0, n, 4));
+  EXPECT_TRUE(jointModelIsBetter(0.999 * bound, 1.0, n, 4));
+  EXPECT_FALSE(jointModelIsBetter(1.001 * bound, 1.0, n, 4));
+  // A speck of 70 outliers 3σ off a plane of 60,000 points with noise σ (σ = 1): RSS 60,000 +
+  // 70 · 9 jointly against 60,000 + 70 with the speck's own sphere — 0.93 % more, where the 4
+  // parameters saved pay for 4 ln n / n ≈ 0.07 %: refused.
+  EXPECT_FALSE(jointModelIsBetter(60000.0 + 630.0, 60000.0 + 70.0, 60070, 4));
+  // Two halves of one plane (σ = 1): the joint fit leaves 5 more than the halves' own fits, under
+  // the 3 ln n ≈ 30 that the plane's parameters pay for: accepted.
+  EXPECT_TRUE(jointModelIsBetter(20000.0 + 5.0, 20000.0, 20000, 3));
+  // Noise-free parts: only an exact joint fit is better.
+  EXPECT_TRUE(jointModelIsBetter(0.0, 0.0, 100, 3));
+  EXPECT_FALSE(jointModelIsBetter(1e-12, 0.0, 100, 3));
+}
+
 }  // namespace
 }  // namespace slipfit

@@ -4,6 +4,7 @@
 // says so and skips when the folder is absent (a clone without the shared data).
 
 #include "paths.h"
+#include "ransac_plane_oracle.h"
 #include "segment_cloud.h"
 
 #include "slipfit/depth_quantization.h"
@@ -13,7 +14,6 @@
 #include <pcl/filters/filter.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
-#include <pcl/segmentation/sac_segmentation.h>
 
 #include <cmath>
 #include <filesystem>
@@ -44,27 +44,8 @@ pcl::PointCloud<pcl::PointNormal>::Ptr loadScan(const std::string& name) {
   return cloud;
 }
 
-/// PCL's RANSAC plane of the cloud (1 cm threshold, coefficients refined on the inliers; the
-/// default deterministic random generator), with the inliers.
-Plane oraclePlane(const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud, pcl::PointIndices& inliers) {
-  pcl::SACSegmentation<pcl::PointNormal> sac;
-  sac.setModelType(pcl::SACMODEL_PLANE);
-  sac.setMethodType(pcl::SAC_RANSAC);
-  sac.setDistanceThreshold(0.01);
-  sac.setMaxIterations(1000);
-  sac.setOptimizeCoefficients(true);
-  sac.setInputCloud(cloud);
-  pcl::ModelCoefficients coefficients;
-  sac.segment(inliers, coefficients);
-  Plane plane;
-  const Eigen::Vector3d n(coefficients.values[0], coefficients.values[1], coefficients.values[2]);
-  plane.normal = n.normalized();
-  plane.d = coefficients.values[3] / n.norm();
-  return plane;
-}
-
 double angleDegrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) * 180.0 / M_PI;
+  return testing::unsignedAngleDegrees(a, b);
 }
 
 /// The segment holding most of \a indices.
@@ -98,13 +79,15 @@ std::size_t assigned(const SegmentationResult& r) {
   return n;
 }
 
-// The table: 0.6–1.8 m from the camera, depth steps 1–12 mm. Measured: 0.120° from PCL's RANSAC
-// plane (1 cm threshold, refined on its inliers; 0.311° before the final fit weighed each point by
-// its precision), 92 % of its inliers in the one plane segment (small segments of table noise at
-// its rim take the rest), 96 % of the scan assigned. The 0.1° is not reached, and the
-// oracle itself does not hold it: PCL's plane at thresholds of 0.4, 0.6, 0.8, 1.25 cm lies 0.13,
-// 0.06, 0.03, 0.04° from its plane at 1 cm, and 0.39° at 1.5 cm (the Kinect's depth distortion
-// bends the far table by 1–2 cm, and each threshold takes a different share of the bend).
+// The table: 0.6–1.8 m from the camera, depth steps 1–12 mm. PCL's RANSAC plane (1 cm threshold,
+// refined on its inliers) is a random estimator: over 100 orders of the same points its planes lie
+// up to 0.23° from their mean, and the run in the file's order is 0.16° from it. Measured: the
+// table one plane segment, 0.121° from that single run and 0.105° from the mean of the 100, holding
+// 97.8 % of the run's inliers (92 % before fragments were absorbed, 184 segments then, 70 now);
+// 95 % of the scan assigned. The issues' 0.1° is not reached; the oracle itself does not hold it:
+// PCL's plane at thresholds of 0.4, 0.6, 0.8, 1.25 cm lies 0.13, 0.06, 0.03, 0.04° from its plane
+// at 1 cm, and 0.39° at 1.5 cm (the Kinect's depth distortion bends the far table by 1–2 cm, and
+// each threshold takes a different share of the bend).
 TEST(RealScan, MilkCartonTableIsOnePlaneNearPclRansacsAndNoSegmentIsADepthSlice) {
   const std::string name = "milk_cartoon_all_small_clorox.pcd";
   const auto cloud = loadScan(name);
@@ -112,23 +95,29 @@ TEST(RealScan, MilkCartonTableIsOnePlaneNearPclRansacsAndNoSegmentIsADepthSlice)
     GTEST_SKIP() << "../shared/data/pcl/" << name << " is absent: the real-scan check needs it";
   const SegmentationResult r = segmentScan(cloud, name);
   EXPECT_GE(static_cast<double>(assigned(r)), 0.95 * static_cast<double>(cloud->size()));
-  pcl::PointIndices inliers;
-  const Plane oracle = oraclePlane(cloud, inliers);
+  const testing::RansacPlane oracle = testing::ransacPlane<pcl::PointNormal>(cloud, 0.01);
+  const pcl::PointIndices& inliers = oracle.inliers;
   ASSERT_FALSE(r.segments.empty());
   const std::size_t k = segmentHolding(r, inliers);
   const Segment& s = r.segments[k];
   ASSERT_EQ(s.fit.type, PrimitiveType::plane) << "segment " << k;
-  const double angle = angleDegrees(std::get<Plane>(s.fit.refined).normal, oracle.normal);
+  const Eigen::Vector3d normal = std::get<Plane>(s.fit.refined).normal;
+  const double angle = angleDegrees(normal, oracle.normal);
+  const double to_consensus =
+      angleDegrees(normal, testing::ransacConsensusNormal<pcl::PointNormal>(cloud, 0.01, 100));
   EXPECT_LT(angle, 0.125);
+  EXPECT_LT(to_consensus, 0.11);
   std::size_t shared = 0;
   for (const auto i : inliers.indices)
     shared += r.labels[static_cast<std::size_t>(i)] == static_cast<std::int32_t>(k) ? 1 : 0;
-  std::cout << name << ": table " << angle << "° from PCL's RANSAC plane, "
+  std::cout << name << ": table " << angle << "° from PCL's RANSAC plane, " << to_consensus
+            << "° from the mean of 100 runs, "
             << static_cast<double>(shared) / static_cast<double>(inliers.indices.size())
             << " of its inliers, "
             << static_cast<double>(assigned(r)) / static_cast<double>(cloud->size())
             << " of the scan assigned, " << r.segments.size() << " segments\n";
-  EXPECT_GE(static_cast<double>(shared), 0.9 * static_cast<double>(inliers.indices.size()));
+  EXPECT_GE(static_cast<double>(shared), 0.975 * static_cast<double>(inliers.indices.size()));
+  EXPECT_LE(r.segments.size(), 70u) << "fragments of the table noise are segments of their own";
 }
 
 // The office: depth steps 1–8 cm (2–8 m away). PCL's RANSAC at 1 cm is no oracle here — its

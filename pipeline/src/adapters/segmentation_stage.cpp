@@ -146,7 +146,7 @@ class SegmentationStage : public Stage {
     }
     context.report << "segmentation: " << result.segments.size() << " segments, " << assigned << "/"
                    << data.size() << " points assigned (distance " << result.distance << ", "
-                   << result.merges << " merges)\n";
+                   << result.merges << " merges, " << result.absorbed << " fragments absorbed)\n";
     if (result.lattice.detected())
       context.report << "segmentation: coordinate "
                      << "xyz"[result.lattice.axis] << " is recorded on levels up to "

@@ -49,6 +49,13 @@ bool isNearlyDegenerate(const Primitive& primitive,
 /// Number of free parameters of a type: 3, 4, 5, 6, 7 (plane, sphere, cylinder, cone, torus).
 int parameterCount(PrimitiveType type);
 
+/// Whether one primitive is the better model of n points than two (each on its own part), by the
+/// Bayesian information criterion under Gaussian residuals: n ln(RSS/n) + p ln n is lower for the
+/// one, i.e. n ln(\a rss_joint / \a rss_separate) ≤ \a saved_parameters ln n, where
+/// saved_parameters is what the second primitive costs. The residual sums of squares in units²;
+/// with rss_separate = 0 only rss_joint = 0 is better.
+bool jointModelIsBetter(double rss_joint, double rss_separate, std::size_t n, int saved_parameters);
+
 /// Index of the simplest adequate candidate: adequate when rms ≤ (1 + kAdequacyMargin) × the
 /// least rms + \a floor (units; the noise level below which distances carry no information —
 /// rounding for noise-free data), fewest parameters first, then the smaller rms, then the

@@ -73,7 +73,10 @@ struct SegmentationResult {
   std::size_t min_points = 0;     ///< the smallest segment allowed
   std::size_t regions_grown = 0;  ///< seeds that were grown (kept or not)
   std::size_t merges = 0;         ///< pairs of segments merged
-  std::size_t revised = 0;        ///< regions whose type the contested points changed
+  /// Regions joined to a neighbor that explains them as well as its own points (fragments of one
+  /// surface, absorbFragments).
+  std::size_t absorbed = 0;
+  std::size_t revised = 0;  ///< regions whose type the contested points changed
   /// Regions dropped because their points fill the tolerance slab like random points (RMS
   /// distance above 0.45 ε), not a surface: a cloud of noise gives no segment.
   std::size_t volumes = 0;

@@ -14,9 +14,13 @@
 /// 7. joinCreases — free points at creases join the nearest adjacent primitive within tolerance;
 /// 8. recoverSmallFaces — a patch of free points that no adjacent primitive explains is a face too
 ///    small to seed (a hole's wall, a narrow fillet): fitted with the edge points it shares;
-/// 9. dropNonSurfaces — regions that fill their tolerance slab like random points, or lie on one
-///    level of a quantized axis, are dropped;
-/// 10. finalize — largest first, every segment refitted on all its members.
+/// 9. absorbFragments — a region that a neighbor four times its size explains as well as that
+///    neighbor's own points joins it (specks of one noisy surface that grew apart);
+/// 10. mergeSettledRegions — adjacent regions merge again, now that boundaries and creases have
+///    settled, when one primitive fits their union no worse than the worse of the two;
+/// 11. dropNonSurfaces — regions that fill their tolerance slab like random points, or lie on one
+///     level of a quantized axis, are dropped;
+/// 12. finalize — largest first, every segment refitted on all its members.
 ///
 /// Each phase can be run and inspected on its own (regions()), which is how the tests look inside.
 /// The design and its figures: docs/THEORY.md §6.
@@ -28,6 +32,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <set>
 #include <vector>
 
 namespace slipfit {
@@ -50,6 +55,8 @@ class SegmentationKernel {
   void refineBoundaries();
   void joinCreases();
   void recoverSmallFaces();
+  void absorbFragments();
+  void mergeSettledRegions();
   void dropNonSurfaces();
   /// Ends the run: the result with its segments largest first.
   SegmentationResult finalize();
@@ -67,6 +74,15 @@ class SegmentationKernel {
   /// A new region of \a members (their labels set to it).
   void addRegion(std::vector<int> members, FitResult fit, SlippageType seed_type);
   void relabelFromRegions();
+  /// Merges adjacent regions, round after round: while the union's best fit has an RMS distance
+  /// at most merge_factor × the larger of the two regions' (two planes at a crease: below both),
+  /// or, \a settled, while unionIsSimpler.
+  void mergeAdjacent(bool settled);
+  /// One primitive of the larger region's type (\a joint) is the better model of regions a and b
+  /// together than each region's own, by the Bayesian information criterion.
+  bool unionIsSimpler(std::size_t a, std::size_t b, const FitResult& joint) const;
+  /// For each live region, the regions its points have among their neighbors.
+  std::vector<std::set<std::size_t>> touchingRegions() const;
   /// The best fit of regions a and b together, or nullopt when the larger (4 × the other) does
   /// not hold half of the smaller's points. Reads only.
   std::optional<FitResult> tryMerge(std::size_t a, std::size_t b) const;
