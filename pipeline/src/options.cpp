@@ -13,12 +13,7 @@ namespace slipfit::pipeline {
 namespace {
 
 std::string number(double v) {
-  if (std::isinf(v))
-    return v > 0 ? "inf" : "-inf";
-  std::ostringstream os;
-  os.precision(9);
-  os << v;
-  return os.str();
+  return parameterNumberText(v);
 }
 
 std::string vec3Text(const Eigen::Vector3f& v) {
@@ -64,16 +59,11 @@ std::string Option::rangeText() const {
       s += (i ? ", " : "") + choices_[i];
     return s;
   }
-  if (!lo_ && !hi_)
-    return "";
-  return std::string(lo_open_ ? "(" : "[") + (lo_ ? number(*lo_) : "-inf") + ", " +
-         (hi_ ? number(*hi_) + (hi_open_ ? ")" : "]") : "inf)");
+  return range_.text();
 }
 
 void Option::checkRange(double value) const {
-  const bool low = lo_ && (lo_open_ ? !(value > *lo_) : !(value >= *lo_));
-  const bool high = hi_ && (hi_open_ ? !(value < *hi_) : !(value <= *hi_));
-  if (low || high)
+  if (!range_.contains(value))
     throw OptionValueError("must be in " + rangeText() + ", got " + number(value));
 }
 
@@ -112,6 +102,13 @@ Option& OptionSet::add(std::string name, double& field, std::string help) {
   return push(std::move(name), "float", number(field), std::move(help),
               [&field](const YAML::Node& node, const Option& option) {
                 field = parseNumber(node, option, false);
+              });
+}
+
+Option& OptionSet::add(std::string name, double& field, double scale, std::string help) {
+  return push(std::move(name), "float", number(field / scale), std::move(help),
+              [&field, scale](const YAML::Node& node, const Option& option) {
+                field = parseNumber(node, option, false) * scale;
               });
 }
 
@@ -166,6 +163,16 @@ Option& OptionSet::add(std::string name, std::optional<double>& field, std::stri
   return push(std::move(name), "float", field ? number(*field) : "unset", std::move(help),
               [&field](const YAML::Node& node, const Option& option) {
                 field = parseNumber(node, option, false);
+              });
+}
+
+Option& OptionSet::add(std::string name, std::optional<std::size_t>& field, std::string help) {
+  return push(std::move(name), "int", field ? std::to_string(*field) : "unset", std::move(help),
+              [&field](const YAML::Node& node, const Option& option) {
+                const double v = parseNumber(node, option, true);
+                if (v < 0)
+                  throw OptionValueError("expected a count (0 or more), got " + number(v));
+                field = static_cast<std::size_t>(v);
               });
 }
 

@@ -19,21 +19,12 @@ namespace {
 }  // namespace
 
 void NeighborhoodParameters::validate() const {
+  validateDeclared(*this, "neighborhood parameters");
   const bool needs_radius = mode == NeighborhoodMode::radius || mode == NeighborhoodMode::hybrid;
   if (needs_radius && !radius)
     reject("radius", "unset", "'required in radius and hybrid modes'");
-  if (radius && !(*radius > 0.0 && std::isfinite(*radius)))
-    reject("radius", std::to_string(*radius), "'0 < radius < inf'");
-  if (k < 3 || k > 10000)
-    reject("k", std::to_string(k), "'3 <= k <= 10000'");
-  if (max_neighbors && *max_neighbors < 3)
-    reject("max_neighbors", std::to_string(*max_neighbors), "'max_neighbors >= 3'");
-  if (k_min < 3)
-    reject("k_min", std::to_string(k_min), "'k_min >= 3'");
-  if (k_max < k_min || k_max > 10000)
-    reject("k_max", std::to_string(k_max), "'k_min <= k_max <= 10000'");
-  if (k_step < 1)
-    reject("k_step", std::to_string(k_step), "'k_step >= 1'");
+  if (k_max < k_min)
+    reject("k_max", std::to_string(k_max), "'k_min <= k_max'");
   if (threads < 0)
     reject("threads", std::to_string(threads), "'threads >= 0'");
 }

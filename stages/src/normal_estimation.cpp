@@ -15,10 +15,7 @@ void NormalParameters::validate() const {
     os << "normal parameters: " << field << " = " << value << " violates " << constraint;
     throw InvalidParameterError(os.str());
   };
-  if (k < 3 || k > 10000)
-    reject("k", std::to_string(k), "'3 <= k <= 10000'");
-  if (radius && !(*radius > 0.0 && std::isfinite(*radius)))
-    reject("radius", std::to_string(*radius), "'0 < radius < inf'");
+  validateDeclared(*this, "normal parameters");
   if (viewpoint && !viewpoint->allFinite())
     reject("viewpoint", "non-finite", "'finite coordinates'");
   if (threads < 0)

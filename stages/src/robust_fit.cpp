@@ -42,15 +42,10 @@ FitResult closedForm(PrimitiveType type, const Points& points, const Points& nor
 }  // namespace
 
 void RobustOptions::validate() const {
-  if (threshold && !(*threshold > 0.0 && std::isfinite(*threshold)))
-    throw InvalidParameterError("robust fit: threshold must be > 0, got " +
-                                std::to_string(*threshold));
+  validateDeclared(*this, "robust fit");
   if (irls_iterations < 1)
     throw InvalidParameterError("robust fit: irls_iterations must be at least 1, got " +
                                 std::to_string(irls_iterations));
-  if (ransac_iterations < 1)
-    throw InvalidParameterError("robust fit: ransac_iterations must be at least 1, got " +
-                                std::to_string(ransac_iterations));
 }
 
 FitResult fitRobust(PrimitiveType type, const Points& points, const Points& normals,

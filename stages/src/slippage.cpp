@@ -468,21 +468,10 @@ bool finiteResult(const SlippageResult& r) {
 }  // namespace
 
 void SlippageOptions::validate() const {
-  if (!(threshold > 0.0 && threshold < 1.0))
-    throw InvalidParameterError("slippage: threshold must be in (0, 1), got " +
-                                std::to_string(threshold));
-  if (!(profile_tolerance > 0.0 && std::isfinite(profile_tolerance)))
-    throw InvalidParameterError("slippage: profile_tolerance must be > 0, got " +
-                                std::to_string(profile_tolerance));
-  if (!(pitch_tolerance >= 0.0 && std::isfinite(pitch_tolerance)))
-    throw InvalidParameterError("slippage: pitch_tolerance must be >= 0, got " +
-                                std::to_string(pitch_tolerance));
+  validateDeclared(*this, "slippage");
   if (!(noise_floor >= 0.0 && std::isfinite(noise_floor)))
     throw InvalidParameterError("slippage: noise_floor must be >= 0, got " +
                                 std::to_string(noise_floor));
-  if (!(flat_radius >= 1.0 && std::isfinite(flat_radius)))
-    throw InvalidParameterError("slippage: flat_radius must be >= 1, got " +
-                                std::to_string(flat_radius));
 }
 
 std::vector<SlippageResult> slippageReadings(const Eigen::Ref<const Eigen::Matrix3Xd>& points,

@@ -18,9 +18,7 @@
 namespace slipfit {
 
 void FitOptions::validate() const {
-  if (max_iterations < 1)
-    throw InvalidParameterError("fit: max_iterations must be at least 1, got " +
-                                std::to_string(max_iterations));
+  validateDeclared(*this, "fit");
   if (!(degenerate_rcond >= 0.0 && degenerate_rcond < 1.0))
     throw InvalidParameterError("fit: degenerate_rcond must be in [0, 1), got " +
                                 std::to_string(degenerate_rcond));

@@ -12,33 +12,7 @@ namespace {
 class NeighborhoodSelectionStage : public Stage {
  public:
   void declare(OptionSet& o) override {
-    o.add("mode", p_.mode, kNeighborhoodModeNames,
-          "knn: the k nearest points; radius: all points within radius; hybrid: the k nearest "
-          "but none beyond radius; adaptive: per point the k in [k_min, k_max] of least "
-          "eigen-entropy (Weinmann et al. 2015).");
-    o.add("k", p_.k, "Neighbors per point (knn), or the cap (hybrid); includes the point itself.")
-        .unit("points")
-        .range(3, 10000);
-    o.add("radius", p_.radius, "Search radius (radius and hybrid modes).")
-        .unit("cloud units")
-        .above(0);
-    o.add("max_neighbors", p_.max_neighbors,
-          "Radius mode: keep at most this many of the nearest (unset: all).")
-        .unit("points")
-        .range(3, 1e7);
-    o.add("k_min", p_.k_min, "Adaptive mode: smallest candidate size.")
-        .unit("points")
-        .range(3, 10000);
-    o.add("k_max", p_.k_max, "Adaptive mode: largest candidate size.")
-        .unit("points")
-        .range(3, 10000);
-    o.add("k_step", p_.k_step, "Adaptive mode: step between candidate sizes.")
-        .unit("points")
-        .range(1, 1000);
-    o.add("span_quantization", p_.span_quantization,
-          "knn: where one coordinate is recorded on levels (Kinect-like depth), widen the "
-          "neighborhoods that lie within 1.5 local steps to every point within 1.5 steps (at "
-          "most 8 k), so that they span the levels.");
+    o.bind(p_);
     o.add("write_fields", write_fields_,
           "Add the per-point fields 'neighbors' (list size) and 'scale' (neighborhood radius) to "
           "the output cloud.");

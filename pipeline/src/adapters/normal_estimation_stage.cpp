@@ -19,25 +19,10 @@ constexpr std::array<std::pair<FailedNormals, std::string_view>, 2> kFailedNorma
 class NormalEstimationStage : public Stage {
  public:
   void declare(OptionSet& o) override {
-    o.add("k", p_.k,
-          "Neighbors per point when no earlier neighborhood_selection stage shared its "
-          "neighborhoods (or use_shared is false).")
-        .unit("points")
-        .range(3, 10000);
-    o.add("radius", p_.radius, "Search radius instead of k, under the same condition.")
-        .unit("cloud units")
-        .above(0);
+    o.bind(p_);
     o.add("use_shared", use_shared_,
           "Use the neighborhoods of an earlier neighborhood_selection stage when there is one "
           "(no second search).");
-    o.add("orientation", p_.orientation, kNormalOrientationNames,
-          "viewpoint: normals face the viewpoint; reference: keep the sign of the input's own "
-          "normals; consistent: minimum-spanning-tree propagation (Hoppe et al. 1992), outward on "
-          "closed surfaces.");
-    o.add("viewpoint", p_.viewpoint,
-          "Viewpoint for 'viewpoint' (unset: the origin) and, when set, the seed direction for "
-          "'consistent' (unset: outward from the centroid).")
-        .unit("cloud units");
     o.add("keep_input", keep_input_,
           "When the input has normals, keep them as they are and estimate nothing.");
     o.add("failed", failed_, kFailedNormalsNames,

@@ -36,10 +36,7 @@ class PrimitiveFittingStage : public Stage {
     o.add("labels", labels_,
           "Integer per-point field: fit one primitive per label >= 0 (unset: the whole cloud).");
     o.add("weights", weights_, "Per-point field of non-negative weights (unset: all 1).");
-    o.add("refine", options_.refine,
-          "Refine the closed-form estimate on the true geometric distance (Levenberg–Marquardt).");
-    o.add("max_iterations", options_.max_iterations, "Refinement iterations at most.")
-        .range(1, 10000);
+    o.bind(options_);
     o.add("inlier_distance", inlier_distance_,
           "Points within this distance count as inliers (unset: a robust fit's own threshold, "
           "else 3 × the surface noise measured from each fit's points, surface_noise.h; never "
@@ -54,11 +51,7 @@ class PrimitiveFittingStage : public Stage {
           "none per label; none: plain weighted fit; irls: Tukey-biweight reweighting; ransac: "
           "best of seeded minimal-sample hypotheses, then irls. Robust with primitive auto: the "
           "type with the most inliers wins (within 1 %, the simpler one).");
-    o.add("robust_threshold", robust_.threshold,
-          "Inlier distance of the robust fit (unset: 2.5 × the robust residual scale).")
-        .unit("units")
-        .above(0);
-    o.add("ransac_iterations", robust_.ransac_iterations, "RANSAC hypotheses.").range(1, 1000000);
+    o.bind(robust_, {{"threshold", "robust_threshold"}});
     o.add("report", report_, "File name of the YAML report in the output dir.").fileName();
   }
 

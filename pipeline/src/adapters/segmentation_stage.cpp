@@ -30,20 +30,7 @@ Eigen::Vector3d pointAt(const pcl::PointCloud<pcl::PointNormal>& cloud, int i) {
 class SegmentationStage : public Stage {
  public:
   void declare(OptionSet& o) override {
-    o.add("distance", parameters_.distance,
-          "Largest point-to-primitive distance of a member (unset: 3 × the noise estimated from "
-          "the neighborhoods + 1/20 of the median spacing).")
-        .unit("units")
-        .above(0);
-    o.add("max_angle", max_angle_, "Largest angle between a member's normal and the primitive's.")
-        .unit("deg")
-        .above(0)
-        .atMost(90);
-    o.add("min_points", min_points_, "Smallest segment (unset: 20).").unit("points").range(3, 1e9);
-    o.add("merge_factor", parameters_.merge_factor,
-          "Adjacent segments merge when the best fit of their union has an RMS distance at most "
-          "this factor times the larger of theirs.")
-        .range(1, 10);
+    o.bind(parameters_);
     o.add("report", report_, "File name of the YAML report (one entry per segment).").fileName();
     o.add("segments", segments_,
           "File name of the PLY of every point with label, primitive and red/green/blue.")
@@ -63,9 +50,6 @@ class SegmentationStage : public Stage {
   }
 
   void prepare() override {
-    parameters_.max_angle = max_angle_ * kDegree;
-    if (min_points_)
-      parameters_.min_points = static_cast<std::size_t>(*min_points_);
     parameters_.validate();
     render_parameters_.width = image_width_;
     render_parameters_.height = image_height_;
@@ -256,8 +240,6 @@ class SegmentationStage : public Stage {
 
   SegmentationParameters parameters_;
   RenderParameters render_parameters_;
-  double max_angle_ = 30.0;
-  std::optional<int> min_points_;
   std::string report_ = "primitives.yaml", segments_ = "segments.ply", render_ = "segments.png";
   bool segment_files_ = false;
   Eigen::Vector3f view_direction_ = Eigen::Vector3f(1.0f, -1.3f, 1.1f);

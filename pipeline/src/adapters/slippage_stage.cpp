@@ -29,23 +29,7 @@ class SlippageStage : public Stage {
     o.add("mode", mode_, kSlippageModeNames,
           "whole: one verdict for the whole cloud, written to the report (then fitted); local: "
           "per-point fields over the shared neighborhoods.");
-    o.add("threshold", options_.threshold,
-          "Eigenvalues below threshold × the largest may be slippable; candidate counts are "
-          "ranked by their spectral gap and the first whose ideal motions slip is taken (see "
-          "docs/THEORY.md §5).")
-        .range(1e-9, 0.5);
-    o.add("profile_tolerance", options_.profile_tolerance,
-          "RMS residual (fraction of the RMS radius) a line or circle profile may have to call a "
-          "surface of revolution a cone or torus.")
-        .range(1e-6, 1);
-    o.add("pitch_tolerance", options_.pitch_tolerance,
-          "Screw pitch per radian (fraction of the RMS radius) below which a motion is a pure "
-          "rotation.")
-        .range(0, 10);
-    o.add("flat_radius", options_.flat_radius,
-          "A point set fitting both a plane and a sphere whose radius exceeds this many RMS radii "
-          "of the set is a plane.")
-        .range(1, 1e9);
+    o.bind(options_);
     o.add("fit", fit_,
           "Whole mode: report the refined fit of a primitive verdict (every type is fitted to "
           "decide the verdict; see docs/THEORY.md §5.4).");

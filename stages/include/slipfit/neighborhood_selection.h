@@ -3,6 +3,7 @@
 /// every point, through one kd-tree build and one neighbor search per point.
 
 #include "slipfit/neighborhoods.h"
+#include "slipfit/parameter_declaration.h"
 
 #include <pcl/pcl_base.h>
 #include <pcl/search/search.h>
@@ -52,6 +53,45 @@ struct NeighborhoodParameters {
   bool span_quantization = true;
   /// OpenMP threads; 0 means as many as the machine has.
   int threads = 0;
+
+  /// Each user-facing field with its one declaration (parameter_declaration.h).
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit(self.mode,
+          parameter("mode",
+                    "knn: the k nearest points; radius: all points within radius; hybrid: the k "
+                    "nearest but none beyond radius; adaptive: per point the k in [k_min, k_max] "
+                    "of least eigen-entropy (Weinmann et al. 2015)."),
+          kNeighborhoodModeNames);
+    visit(
+        self.k,
+        parameter("k", "Neighbors per point (knn), or the cap (hybrid); includes the point itself.")
+            .in("points")
+            .between(3, 10000));
+    visit(
+        self.radius,
+        parameter("radius", "Search radius (radius and hybrid modes).").in("cloud units").above(0));
+    visit(self.max_neighbors,
+          parameter("max_neighbors",
+                    "Radius mode: keep at most this many of the nearest (unset: "
+                    "all).")
+              .in("points")
+              .between(3, 1e7));
+    visit(self.k_min, parameter("k_min", "Adaptive mode: smallest candidate size.")
+                          .in("points")
+                          .between(3, 10000));
+    visit(self.k_max, parameter("k_max", "Adaptive mode: largest candidate size.")
+                          .in("points")
+                          .between(3, 10000));
+    visit(self.k_step, parameter("k_step", "Adaptive mode: step between candidate sizes.")
+                           .in("points")
+                           .between(1, 1000));
+    visit(self.span_quantization,
+          parameter("span_quantization",
+                    "knn: where one coordinate is recorded on levels (Kinect-like depth), widen "
+                    "the neighborhoods that lie within 1.5 local steps to every point within 1.5 "
+                    "steps (at most 8 k), so that they span the levels."));
+  }
 
   /// Throws InvalidParameterError naming the field, its value and the broken constraint.
   void validate() const;

@@ -4,6 +4,7 @@
 
 #include "slipfit/neighborhoods.h"
 #include "slipfit/normal_orientation.h"
+#include "slipfit/parameter_declaration.h"
 
 #include <pcl/pcl_base.h>
 #include <pcl/search/search.h>
@@ -27,6 +28,31 @@ struct NormalParameters {
   std::optional<Eigen::Vector3f> viewpoint;
   /// OpenMP threads; 0 means as many as the machine has.
   int threads = 0;
+
+  /// Each user-facing field with its one declaration (parameter_declaration.h).
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit(self.k,
+          parameter("k",
+                    "Neighbors per point when no earlier neighborhood_selection stage shared its "
+                    "neighborhoods (or use_shared is false).")
+              .in("points")
+              .between(3, 10000));
+    visit(self.radius, parameter("radius", "Search radius instead of k, under the same condition.")
+                           .in("cloud units")
+                           .above(0));
+    visit(self.orientation,
+          parameter("orientation",
+                    "viewpoint: normals face the viewpoint; reference: keep the sign of the "
+                    "input's own normals; consistent: minimum-spanning-tree propagation (Hoppe et "
+                    "al. 1992), outward on closed surfaces."),
+          kNormalOrientationNames);
+    visit(self.viewpoint,
+          parameter("viewpoint",
+                    "Viewpoint for 'viewpoint' (unset: the origin) and, when set, the seed "
+                    "direction for 'consistent' (unset: outward from the centroid).")
+              .in("cloud units"));
+  }
 
   /// Throws InvalidParameterError naming the field, its value and the broken constraint.
   void validate() const;

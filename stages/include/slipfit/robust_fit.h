@@ -2,6 +2,7 @@
 /// \file Robust wrappers around the weighted estimators: RANSAC hypotheses (seeded) and iteratively
 /// reweighted least squares with Tukey's biweight, so that outliers stop pulling the fit.
 
+#include "slipfit/parameter_declaration.h"
 #include "slipfit/weighted_fit.h"
 
 #include <cstdint>
@@ -31,8 +32,20 @@ struct RobustOptions {
   int ransac_iterations = 300;
   std::uint64_t seed = 1;
 
-  /// Throws InvalidParameterError naming the field: threshold > 0 when set, at least one IRLS
-  /// iteration and one RANSAC hypothesis.
+  /// Each user-facing field with its one declaration (parameter_declaration.h).
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit(self.threshold,
+          parameter("threshold",
+                    "Inlier distance of the robust fit (unset: 2.5 × the robust residual scale).")
+              .in("units")
+              .above(0));
+    visit(self.ransac_iterations,
+          parameter("ransac_iterations", "RANSAC hypotheses.").between(1, 1000000));
+  }
+
+  /// Throws InvalidParameterError naming the field, its value and its declared range (and at
+  /// least one IRLS iteration).
   void validate() const;
 };
 

@@ -4,9 +4,11 @@
 /// over the shared kNN graph while points agree with the region's weighted fit, refits as regions
 /// grow, merging of adjacent regions of one primitive, and label −1 for points that fit nothing.
 
+#include "slipfit/angle_units.h"
 #include "slipfit/depth_quantization.h"
 #include "slipfit/local_slippage.h"
 #include "slipfit/neighborhoods.h"
+#include "slipfit/parameter_declaration.h"
 #include "slipfit/slippage.h"
 #include "slipfit/weighted_fit.h"
 
@@ -24,21 +26,44 @@ namespace slipfit {
 
 struct SegmentationParameters {
   /// Largest point-to-primitive distance of a member, units. Unset: 3 σ̂ + 1/20 of the median
-  /// spacing, σ̂ the noise estimated from the lower quartile of the neighborhoods' plane
-  /// residuals λ₀ (docs/THEORY.md §6).
+  /// spacing, σ̂ the noise estimated from the lower quartile of the neighborhoods' residuals
+  /// (docs/THEORY.md §6).
   std::optional<double> distance;
-  /// Largest angle between a member's normal and the primitive's (unsigned), radians, (0, π/2].
-  double max_angle = 0.5235987755982988;  // 30°
+  /// Largest angle between a member's normal and the primitive's (unsigned), radians.
+  double max_angle = 30.0 * kDegree;
   /// Smallest segment, points. Unset: 20 (an absolute count, whatever N).
   std::optional<std::size_t> min_points;
-  /// Adjacent segments of one type merge when the fit of their union has an RMS distance at most
-  /// this factor times the larger of theirs. [1, 10].
+  /// Adjacent segments merge when the fit of their union has an RMS distance at most this factor
+  /// times the larger of theirs.
   double merge_factor = 1.5;
   /// OpenMP threads for the fits tried in parallel (the result does not depend on them); 0 means as
   /// many as the machine has.
   int threads = 0;
 
-  /// Throws InvalidParameterError naming the field.
+  /// Each user-facing field with its one declaration (parameter_declaration.h).
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit(self.distance,
+          parameter("distance",
+                    "Largest point-to-primitive distance of a member (unset: 3 × the noise "
+                    "estimated from the neighborhoods + 1/20 of the median spacing).")
+              .in("units")
+              .above(0));
+    visit(self.max_angle,
+          parameter("max_angle", "Largest angle between a member's normal and the primitive's.")
+              .in("deg", kDegree)
+              .above(0)
+              .atMost(90));
+    visit(self.min_points,
+          parameter("min_points", "Smallest segment (unset: 20).").in("points").between(3, 1e9));
+    visit(self.merge_factor,
+          parameter("merge_factor",
+                    "Adjacent segments merge when the best fit of their union has an RMS distance "
+                    "at most this factor times the larger of theirs.")
+              .between(1, 10));
+  }
+
+  /// Throws InvalidParameterError naming the field, its value and its declared range.
   void validate() const;
 };
 

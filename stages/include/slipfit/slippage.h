@@ -4,6 +4,7 @@
 /// of the 6 × 6 matrix Σ wᵢ [pᵢ × nᵢ; nᵢ][pᵢ × nᵢ; nᵢ]ᵀ, and the primitive they reveal.
 /// Derivation: docs/THEORY.md §5.
 
+#include "slipfit/parameter_declaration.h"
 #include "slipfit/primitives.h"
 
 #include <Eigen/Core>
@@ -67,8 +68,36 @@ struct SlippageOptions {
   /// radii of the point set is a plane (the sagitta is under 1 % of the patch).
   double flat_radius = 50.0;
 
-  /// Throws InvalidParameterError naming the field: threshold in (0, 1), profile_tolerance > 0,
-  /// pitch_tolerance and noise_floor ≥ 0, flat_radius ≥ 1, all finite.
+  /// Each user-facing field with its one declaration (parameter_declaration.h); noise_floor is
+  /// set by the library itself.
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit(self.threshold,
+          parameter("threshold",
+                    "Eigenvalues below threshold × the largest may be slippable; candidate counts "
+                    "are ranked by their spectral gap and the first whose ideal motions slip is "
+                    "taken (see docs/THEORY.md §5).")
+              .between(1e-9, 0.5));
+    visit(
+        self.profile_tolerance,
+        parameter("profile_tolerance",
+                  "RMS residual (fraction of the RMS radius) a line or circle profile may have to "
+                  "call a surface of revolution a cone or torus.")
+            .between(1e-6, 1));
+    visit(self.pitch_tolerance,
+          parameter("pitch_tolerance",
+                    "Screw pitch per radian (fraction of the RMS radius) below which a motion is a "
+                    "pure rotation.")
+              .between(0, 10));
+    visit(self.flat_radius,
+          parameter("flat_radius",
+                    "A point set fitting both a plane and a sphere whose radius exceeds this many "
+                    "RMS radii of the set is a plane.")
+              .between(1, 1e9));
+  }
+
+  /// Throws InvalidParameterError naming the field, its value and its declared range (noise_floor:
+  /// ≥ 0 and finite).
   void validate() const;
 };
 

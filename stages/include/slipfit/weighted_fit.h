@@ -5,6 +5,7 @@
 /// N non-negative weights.
 /// Normals are needed by the cylinder, cone and torus. Derivations: docs/THEORY.md §4.
 
+#include "slipfit/parameter_declaration.h"
 #include "slipfit/primitives.h"
 
 #include <Eigen/Core>
@@ -57,8 +58,18 @@ struct FitOptions {
   /// Below this reciprocal condition number the closed form is declared degenerate.
   double degenerate_rcond = 1e-10;
 
-  /// Throws InvalidParameterError naming the field: max_iterations ≥ 1, degenerate_rcond in
-  /// [0, 1).
+  /// Each user-facing field with its one declaration (parameter_declaration.h).
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit(self.refine, parameter("refine",
+                                 "Refine the closed-form estimate on the true geometric distance "
+                                 "(Levenberg–Marquardt)."));
+    visit(self.max_iterations,
+          parameter("max_iterations", "Refinement iterations at most.").between(1, 10000));
+  }
+
+  /// Throws InvalidParameterError naming the field, its value and its declared range
+  /// (degenerate_rcond: [0, 1)).
   void validate() const;
 };
 

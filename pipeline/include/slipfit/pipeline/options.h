@@ -4,16 +4,19 @@
 /// declaration (the PDAL addArgs model).
 
 #include "slipfit/name_table.h"
+#include "slipfit/parameter_declaration.h"
 
 #include <Eigen/Core>
 
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -42,6 +45,11 @@ class Option {
   }
   /// Inclusive numeric range.
   Option& range(double lo, double hi) { return lowBound(lo, false).highBound(hi, false); }
+  /// The range of a library declaration (ParameterDeclaration::range).
+  Option& range(const ParameterRange& range) {
+    range_ = range;
+    return *this;
+  }
   /// Exclusive lower bound (value > lo).
   Option& above(double lo) { return lowBound(lo, true); }
   /// Inclusive lower bound.
@@ -68,10 +76,10 @@ class Option {
   const std::vector<std::string>& choices() const { return choices_; }
   bool isRequired() const { return required_; }
   /// The numeric bounds (unset: none on that side); each excludes its value when open.
-  std::optional<double> low() const { return lo_; }
-  std::optional<double> high() const { return hi_; }
-  bool lowOpen() const { return lo_open_; }
-  bool highOpen() const { return hi_open_; }
+  std::optional<double> low() const { return range_.low; }
+  std::optional<double> high() const { return range_.high; }
+  bool lowOpen() const { return range_.low_open; }
+  bool highOpen() const { return range_.high_open; }
   /// "[3, 10000]", "(0, inf)", "one of knn, radius" or "" when unconstrained.
   std::string rangeText() const;
 
@@ -95,19 +103,16 @@ class Option {
 
  private:
   Option& lowBound(double lo, bool open) {
-    lo_ = lo;
-    lo_open_ = open;
+    range_.setLow(lo, open);
     return *this;
   }
   Option& highBound(double hi, bool open) {
-    hi_ = hi;
-    hi_open_ = open;
+    range_.setHigh(hi, open);
     return *this;
   }
 
   std::string name_, type_, default_, help_, unit_;
-  std::optional<double> lo_, hi_;
-  bool lo_open_ = false, hi_open_ = false;
+  ParameterRange range_;
   bool required_ = false;
   bool allow_empty_ = false;
   bool file_name_ = false;
@@ -120,11 +125,15 @@ class OptionSet {
  public:
   Option& add(std::string name, int& field, std::string help);
   Option& add(std::string name, double& field, std::string help);
+  /// A number the user gives in one unit and the field holds in another: field = value × \a scale
+  /// (degrees into radians: kDegree); range and default are the user's.
+  Option& add(std::string name, double& field, double scale, std::string help);
   Option& add(std::string name, bool& field, std::string help);
   Option& add(std::string name, std::string& field, std::string help);
   Option& add(std::string name, std::uint64_t& field, std::string help);
   Option& add(std::string name, std::optional<int>& field, std::string help);
   Option& add(std::string name, std::optional<double>& field, std::string help);
+  Option& add(std::string name, std::optional<std::size_t>& field, std::string help);
   Option& add(std::string name, Eigen::Vector3f& field, std::string help);
   Option& add(std::string name, std::optional<Eigen::Vector3f>& field, std::string help);
 
@@ -157,6 +166,21 @@ class OptionSet {
         .choices(namesOf(names, {std::string(automatic)}));
   }
 
+  /// Binds every parameter that \a parameters declares (its static forEachParameter): name, help,
+  /// unit, range and the unit's scale come from the library's one declaration.
+  /// \a renames: (declared name, option name) where the stage's options need another name.
+  template <typename Parameters>
+  void bind(Parameters& parameters,
+            std::initializer_list<std::pair<std::string_view, std::string_view>> renames = {}) {
+    Parameters::forEachParameter(
+        parameters, [&](auto& field, ParameterDeclaration d, const auto&... names) {
+          for (const auto& [declared, option] : renames)
+            if (d.name == declared)
+              d.name = option;
+          bindDeclared(field, d, names...).unit(std::string(d.unit)).range(d.range);
+        });
+  }
+
   const Option* find(std::string_view name) const;
   const std::vector<std::unique_ptr<Option>>& all() const { return options_; }
   /// "a, b, c": the names, for error messages.
@@ -185,6 +209,25 @@ class OptionSet {
   }
 
  private:
+  template <typename T>
+  Option& bindDeclared(T& field, const ParameterDeclaration& d) {
+    if constexpr (std::is_same_v<T, double>)
+      return add(std::string(d.name), field, d.scale, std::string(d.help));
+    else
+      return add(std::string(d.name), field, std::string(d.help));
+  }
+  template <typename E, std::size_t N>
+  Option& bindDeclared(E& field, const ParameterDeclaration& d,
+                       const std::array<std::pair<E, std::string_view>, N>& names) {
+    return add(std::string(d.name), field, names, std::string(d.help));
+  }
+  template <typename E, std::size_t N>
+  Option& bindDeclared(std::optional<E>& field, const ParameterDeclaration& d,
+                       std::string_view automatic,
+                       const std::array<std::pair<E, std::string_view>, N>& names) {
+    return add(std::string(d.name), field, automatic, names, std::string(d.help));
+  }
+
   Option& push(std::string name, std::string type, std::string default_text, std::string help,
                Option::Parser parser);
   std::vector<std::unique_ptr<Option>> options_;
