@@ -1,9 +1,11 @@
 #include "slipfit/robust_fit.h"
 #include "slipfit/exceptions.h"
 #include "slipfit/median.h"
+#include "slipfit/model_selection.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -143,6 +145,43 @@ FitResult fitRobust(PrimitiveType type, const Points& points, const Points& norm
       (*inliers)[static_cast<std::size_t>(i)] = weights[i] > 0.0 && d[i] <= limit;
   }
   return fit;
+}
+
+FitResult fitRobustAuto(const Points& points, const Points& normals, const Weights& weights,
+                        const RobustOptions& robust, const FitOptions& options,
+                        double* inlier_distance) {
+  std::vector<FitResult> fits;
+  double common = std::numeric_limits<double>::infinity();
+  for (const auto& [type, name] : kPrimitiveTypeNames) {
+    if ((type == PrimitiveType::cylinder || type == PrimitiveType::cone ||
+         type == PrimitiveType::torus) &&
+        normals.cols() != points.cols())
+      continue;
+    double limit = 0.0;
+    const FitResult r = fitRobust(type, points, normals, weights, robust, options, nullptr, &limit);
+    if (!r.ok() || isNearlyDegenerate(r.refined, points))
+      continue;
+    fits.push_back(r);
+    if (limit > 0.0)
+      common = std::min(common, limit);
+  }
+  FitResult best;
+  best.status = FitStatus::degenerate;
+  best.reason = "no primitive type fits robustly";
+  double best_weight = -1.0;
+  for (const FitResult& r : fits) {
+    double weight = 0.0;
+    for (Eigen::Index i = 0; i < points.cols(); ++i)
+      if (weights[i] > 0.0 && distance(points.col(i), r.refined) <= common)
+        weight += weights[i];
+    if (weight > 1.01 * best_weight) {
+      best_weight = weight;
+      best = r;
+    }
+  }
+  if (best.ok() && inlier_distance)
+    *inlier_distance = common;
+  return best;
 }
 
 }  // namespace slipfit

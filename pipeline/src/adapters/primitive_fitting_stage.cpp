@@ -1,7 +1,6 @@
 #include "adapters.h"
 
 #include "slipfit/cloud_maps.h"
-#include "slipfit/model_selection.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
@@ -13,7 +12,6 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
-#include <limits>
 #include <map>
 #include <ostream>
 #include <sstream>
@@ -207,10 +205,7 @@ class PrimitiveFittingStage : public Stage {
     return 3.0 * noise;
   }
 
-  /// The robust fit of the fixed type, or with auto the type with the most inlier weight within a
-  /// common distance — the smallest of the types' own inlier distances, so that a poor type cannot
-  /// win by estimating a wide residual scale — and within 1 % of that, the one with fewer
-  /// parameters.
+  /// The robust fit of the fixed type, or with auto the library's choice (fitRobustAuto).
   FitResult robustFit(const Eigen::Matrix3Xd& points, const Eigen::Matrix3Xd& normals,
                       const Eigen::VectorXd& w, std::uint64_t seed, std::vector<char>* inliers,
                       double* limit) const {
@@ -218,42 +213,8 @@ class PrimitiveFittingStage : public Stage {
     robust.seed = seed;
     if (type_)
       return fitRobust(*type_, points, normals, w, robust, options_, inliers, limit);
-    std::vector<FitResult> fits;
-    double common = std::numeric_limits<double>::infinity();
-    for (const auto& [type, name] : kPrimitiveTypeNames) {
-      if ((type == PrimitiveType::cylinder || type == PrimitiveType::cone ||
-           type == PrimitiveType::torus) &&
-          normals.cols() != points.cols())
-        continue;
-      double lim = 0.0;
-      const FitResult r = fitRobust(type, points, normals, w, robust, options_, nullptr, &lim);
-      // A curved type in its flat limit (a sphere of radius 76 m over a 1 m table) is the simpler
-      // type, which is a candidate of its own (model_selection.h, as fitAuto decides).
-      if (!r.ok() || isNearlyDegenerate(r.refined, points))
-        continue;
-      fits.push_back(r);
-      if (lim > 0.0)
-        common = std::min(common, lim);
-    }
-    FitResult best;
-    best.status = FitStatus::degenerate;
-    best.reason = "no primitive type fits robustly";
-    double best_weight = -1.0;
-    for (const FitResult& r : fits) {
-      double weight = 0.0;
-      for (Eigen::Index i = 0; i < points.cols(); ++i)
-        if (w[i] > 0.0 && distance(points.col(i), r.refined) <= common)
-          weight += w[i];
-      if (weight > 1.01 * best_weight) {
-        best_weight = weight;
-        best = r;
-      }
-    }
-    if (best.ok()) {
-      *limit = common;
-      inliers->clear();
-    }
-    return best;
+    inliers->clear();
+    return fitRobustAuto(points, normals, w, robust, options_, limit);
   }
 
   static std::string percent(int part, int whole) {

@@ -58,4 +58,16 @@ FitResult fitRobust(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3Xd>
                     const FitOptions& options = {}, std::vector<char>* inliers = nullptr,
                     double* inlier_distance = nullptr);
 
+/// The robust fit of every type the data allow (cylinder, cone and torus need normals), and of
+/// those the one with the most inlier weight within a common distance — the smallest of the types'
+/// own inlier distances, so that a poor type cannot win by estimating a wide residual scale; within
+/// 1 % of that weight, the type with fewer parameters. A type in its degenerate limit
+/// (isNearlyDegenerate: a sphere of radius 76 m over a 1 m table) is left to its simpler type.
+/// \a inlier_distance gets the common distance. Status degenerate when no type fits.
+FitResult fitRobustAuto(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                        const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                        const Eigen::Ref<const Eigen::VectorXd>& weights,
+                        const RobustOptions& robust, const FitOptions& options = {},
+                        double* inlier_distance = nullptr);
+
 }  // namespace slipfit
