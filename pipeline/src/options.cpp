@@ -121,6 +121,7 @@ Option& OptionSet::add(std::string name, std::uint64_t& field, std::string help)
                 if (text.empty() || text[0] == '-' || !(is >> v) ||
                     is.peek() != std::char_traits<char>::eof())
                   throw OptionValueError("expected a non-negative integer, got '" + text + "'");
+                option.checkRange(static_cast<double>(v));
                 field = v;
               });
 }
@@ -186,6 +187,16 @@ Option& OptionSet::add(std::string name, std::optional<Eigen::Vector3f>& field, 
   return push(
       std::move(name), "vec3", field ? vec3Text(*field) : "unset", std::move(help),
       [&field](const YAML::Node& node, const Option& option) { field = parseVec3(node, option); });
+}
+
+Option& OptionSet::add(std::string name, Eigen::Vector3d& field, std::string help) {
+  return push(std::move(name), "vec3", vec3Text(field.cast<float>()), std::move(help),
+              [&field](const YAML::Node& node, const Option& option) {
+                if (!node.IsSequence() || node.size() != 3)
+                  throw OptionValueError("expected a list of three numbers like [0, 0, 1]");
+                for (int i = 0; i < 3; ++i)
+                  field[i] = parseNumber(node[i], option, false);
+              });
 }
 
 const Option* OptionSet::find(std::string_view name) const {

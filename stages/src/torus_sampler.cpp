@@ -25,6 +25,7 @@ bool inRange(double a, double lo, double hi) {
 }  // namespace
 
 void TorusSamplingParameters::validate() const {
+  validateDeclared(*this, "torus sampling");
   shape.validate();
   if (!center.allFinite())
     reject("center must be finite");

@@ -10,6 +10,7 @@
 #include "slipfit/robust_fit.h"
 #include "slipfit/segmentation.h"
 #include "slipfit/slippage.h"
+#include "slipfit/torus_sampler.h"
 #include "slipfit/weighted_fit.h"
 
 #include <gtest/gtest.h>
@@ -111,10 +112,13 @@ TEST(ParameterDeclarations, EveryDeclaredBoundIsEnforcedByTheLibrarysValidate) {
   checked += expectEveryBoundEnforced<FitOptions>("FitOptions");
   checked += expectEveryBoundEnforced<RobustOptions>("RobustOptions");
   checked += expectEveryBoundEnforced<SegmentationParameters>("SegmentationParameters");
+  checked += expectEveryBoundEnforced<TorusSamplingParameters>("TorusSamplingParameters");
   // 2 bounds each: k, max_neighbors, k_min, k_max, k_step (10) and radius (1); normals k (2),
   // radius (1); slippage 4 × 2; max_iterations (2); robust threshold (1), ransac_iterations (2);
-  // segmentation distance (1), max_angle (2), min_points (2), merge_factor (2).
-  EXPECT_EQ(checked, 11u + 3u + 8u + 2u + 3u + 7u);
+  // segmentation distance (1), max_angle (2), min_points (2), merge_factor (2); torus sampling
+  // major and minor radius (1 each), noise and normal_noise (1 each), spin, points, the four
+  // coverage angles and outliers (2 each).
+  EXPECT_EQ(checked, 11u + 3u + 8u + 2u + 3u + 7u + 18u);
 }
 
 // The message names the field, the range in the user's unit and the value in it: a max_angle of

@@ -16,49 +16,7 @@ namespace {
 class TorusSamplingStage : public Stage {
  public:
   void declare(OptionSet& o) override {
-    o.add("major_radius", p_.shape.R, "R: radius of the centre circle of the tube.")
-        .unit("units")
-        .above(0);
-    o.add("minor_radius", p_.shape.r, "r: radius of the tube; 0 < r < R.").unit("units").above(0);
-    o.add("center", center_, "Position of the torus centre.").unit("units");
-    o.add("axis", axis_, "Direction of the symmetry axis (normalised).");
-    o.add("spin", spin_,
-          "Rotation about the axis: where β = 0 lies (matters for partial coverage).")
-        .unit("deg")
-        .range(-360, 360);
-    o.add("points", points_, "Surface samples (outliers come on top).")
-        .unit("points")
-        .range(1, 1e9);
-    o.add("sampling", p_.sampling, kTorusSamplingNames,
-          "area: uniform on the surface (density ∝ R + r cos α); angle: uniform in (α, β); "
-          "parameter: uniform in the Bézier quarters' (u, v).");
-    o.add("alpha_min", alpha_min_,
-          "Coverage around the tube starts here (α = 0: outer equator, 90: top).")
-        .unit("deg")
-        .atLeast(0)
-        .below(360);
-    o.add("alpha_max", alpha_max_, "Coverage around the tube ends here (above alpha_min).")
-        .unit("deg")
-        .above(0)
-        .atMost(360);
-    o.add("beta_min", beta_min_, "Coverage around the axis starts here (β = 0 on +x).")
-        .unit("deg")
-        .atLeast(0)
-        .below(360);
-    o.add("beta_max", beta_max_, "Coverage around the axis ends here (above beta_min).")
-        .unit("deg")
-        .above(0)
-        .atMost(360);
-    o.add("noise", p_.noise, "σ of Gaussian noise added to each coordinate.")
-        .unit("units")
-        .atLeast(0);
-    o.add("normal_noise", normal_noise_, "σ of the perturbation of the normals.")
-        .unit("deg")
-        .atLeast(0);
-    o.add("outliers", p_.outlier_fraction,
-          "Outliers per surface sample, uniform in the bounding box with random normals; marked "
-          "by the field 'outlier'.")
-        .range(0, 1);
+    o.bind(p_);
     o.add("mesh", mesh_, "Also write the stitched quad mesh as OFF (with normals, NOFF) and PLY.");
     o.add("mesh_name", mesh_name_, "Base name of the mesh files in the output dir.").fileName();
     o.add("mesh_alpha", m_.n_alpha, "Mesh vertices around the tube.")
@@ -78,15 +36,6 @@ class TorusSamplingStage : public Stage {
   }
 
   void prepare() override {
-    p_.center = center_.cast<double>();
-    p_.axis = axis_.cast<double>();
-    p_.points = static_cast<std::size_t>(points_);
-    p_.spin = spin_ * kDegree;
-    p_.alpha_min = alpha_min_ * kDegree;
-    p_.alpha_max = alpha_max_ * kDegree;
-    p_.beta_min = beta_min_ * kDegree;
-    p_.beta_max = beta_max_ * kDegree;
-    p_.normal_noise = normal_noise_ * kDegree;
     p_.validate();
     if (mesh_ || naive_)
       m_.validate();
@@ -153,14 +102,12 @@ class TorusSamplingStage : public Stage {
   }
 
  private:
-  TorusSamplingParameters p_;
+  TorusSamplingParameters p_ = [] {
+    TorusSamplingParameters p;
+    p.points = 20000;  // the stage's default (the library's is 10,000)
+    return p;
+  }();
   TorusMeshParameters m_;
-  Eigen::Vector3f center_ = Eigen::Vector3f::Zero();
-  Eigen::Vector3f axis_ = Eigen::Vector3f::UnitZ();
-  int points_ = 20000;
-  double alpha_min_ = 0.0, alpha_max_ = 360.0, beta_min_ = 0.0, beta_max_ = 360.0;
-  double normal_noise_ = 0.0;
-  double spin_ = 0.0;
   bool mesh_ = false;
   bool naive_ = false;
   bool print_sites_ = false;

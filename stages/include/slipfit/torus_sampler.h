@@ -3,6 +3,7 @@
 /// coverage: the test-cloud source for the later stages.
 
 #include "slipfit/angle_units.h"
+#include "slipfit/parameter_declaration.h"
 #include "slipfit/torus.h"
 #include "slipfit/torus_mesh.h"
 
@@ -44,6 +45,63 @@ struct TorusSamplingParameters {
   double normal_noise = 0.0;      ///< σ of normal perturbation, radians, >= 0
   double outlier_fraction = 0.0;  ///< outliers per surface sample, in [0, 1]
   std::uint64_t seed = 1;
+
+  /// Each user-facing field with its one declaration (parameter_declaration.h).
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit(self.shape.R, parameter("major_radius", "R: radius of the centre circle of the tube.")
+                            .in("units")
+                            .above(0));
+    visit(self.shape.r,
+          parameter("minor_radius", "r: radius of the tube; 0 < r < R.").in("units").above(0));
+    visit(self.center, parameter("center", "Position of the torus centre.").in("units"));
+    visit(self.axis, parameter("axis", "Direction of the symmetry axis (normalised)."));
+    visit(self.spin, parameter("spin",
+                               "Rotation about the axis: where β = 0 lies (matters for partial "
+                               "coverage).")
+                         .in("deg", kDegree)
+                         .between(-360, 360));
+    visit(self.points, parameter("points", "Surface samples (outliers come on top).")
+                           .in("points")
+                           .between(1, 1e9));
+    visit(self.sampling,
+          parameter("sampling",
+                    "area: uniform on the surface (density ∝ R + r cos α); angle: uniform in (α, "
+                    "β); parameter: uniform in the Bézier quarters' (u, v)."),
+          kTorusSamplingNames);
+    visit(self.alpha_min,
+          parameter("alpha_min",
+                    "Coverage around the tube starts here (α = 0: outer equator, 90: top).")
+              .in("deg", kDegree)
+              .atLeast(0)
+              .below(360));
+    visit(self.alpha_max,
+          parameter("alpha_max", "Coverage around the tube ends here (above alpha_min).")
+              .in("deg", kDegree)
+              .above(0)
+              .atMost(360));
+    visit(self.beta_min,
+          parameter("beta_min", "Coverage around the axis starts here (β = 0 on +x).")
+              .in("deg", kDegree)
+              .atLeast(0)
+              .below(360));
+    visit(self.beta_max,
+          parameter("beta_max", "Coverage around the axis ends here (above beta_min).")
+              .in("deg", kDegree)
+              .above(0)
+              .atMost(360));
+    visit(
+        self.noise,
+        parameter("noise", "σ of Gaussian noise added to each coordinate.").in("units").atLeast(0));
+    visit(self.normal_noise, parameter("normal_noise", "σ of the perturbation of the normals.")
+                                 .in("deg", kDegree)
+                                 .atLeast(0));
+    visit(self.outlier_fraction,
+          parameter("outliers",
+                    "Outliers per surface sample, uniform in the bounding box with random normals; "
+                    "marked by the field 'outlier'.")
+              .between(0, 1));
+  }
 
   /// Throws InvalidParameterError naming the field.
   void validate() const;

@@ -135,6 +135,7 @@ class OptionSet {
   Option& add(std::string name, std::optional<double>& field, std::string help);
   Option& add(std::string name, std::optional<std::size_t>& field, std::string help);
   Option& add(std::string name, Eigen::Vector3f& field, std::string help);
+  Option& add(std::string name, Eigen::Vector3d& field, std::string help);
   Option& add(std::string name, std::optional<Eigen::Vector3f>& field, std::string help);
 
   /// An enumeration bound through its one name table.
