@@ -13,17 +13,14 @@ namespace slipfit {
 namespace {}
 
 void MotionSurfaceParameters::validate() const {
-  if (!(radius > 0.0 && std::isfinite(radius)))
-    throw InvalidParameterError("motion surface: radius must be > 0");
-  if (!(length > 0.0 && std::isfinite(length)))
-    throw InvalidParameterError("motion surface: length must be > 0");
+  validateDeclared(*this, "motion surface");
   if ((surface == MotionSurface::helix || surface == MotionSurface::twisted_column) &&
       !(std::abs(pitch) > 0.0 && std::isfinite(pitch)))
     throw InvalidParameterError("motion surface: a helix or twisted column needs a non-zero pitch");
-  if (points < 1)
-    throw InvalidParameterError("motion surface: points must be at least 1");
-  if (!(noise >= 0.0 && std::isfinite(noise)))
-    throw InvalidParameterError("motion surface: noise must be >= 0");
+  if (!center.allFinite())
+    throw InvalidParameterError("motion surface: center must be finite");
+  if (!axis.allFinite() || !(axis.norm() > 0.0))
+    throw InvalidParameterError("motion surface: axis must be a finite non-zero vector");
 }
 
 void sampleMotionSurface(const MotionSurfaceParameters& p, Eigen::Matrix3Xd& points,
@@ -33,6 +30,9 @@ void sampleMotionSurface(const MotionSurfaceParameters& p, Eigen::Matrix3Xd& poi
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> gauss(0.0, 1.0);
   const auto n = static_cast<Eigen::Index>(p.points);
+  const Eigen::Matrix3d rotation =
+      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), p.axis.normalized())
+          .toRotationMatrix();
   points.resize(3, n);
   normals.resize(3, n);
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -89,8 +89,8 @@ void sampleMotionSurface(const MotionSurfaceParameters& p, Eigen::Matrix3Xd& poi
     }
     if (p.noise > 0.0)
       x += p.noise * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
-    points.col(i) = x;
-    normals.col(i) = nn;
+    points.col(i) = rotation * x + p.center;
+    normals.col(i) = rotation * nn;
   }
 }
 
