@@ -11,6 +11,7 @@
 #include "slipfit/robust_fit.h"
 #include "slipfit/segmentation.h"
 #include "slipfit/slippage.h"
+#include "slipfit/subsampling.h"
 #include "slipfit/torus_sampler.h"
 #include "slipfit/weighted_fit.h"
 
@@ -115,13 +116,14 @@ TEST(ParameterDeclarations, EveryDeclaredBoundIsEnforcedByTheLibrarysValidate) {
   checked += expectEveryBoundEnforced<SegmentationParameters>("SegmentationParameters");
   checked += expectEveryBoundEnforced<TorusSamplingParameters>("TorusSamplingParameters");
   checked += expectEveryBoundEnforced<MotionSurfaceParameters>("MotionSurfaceParameters");
+  checked += expectEveryBoundEnforced<SubsampleParameters>("SubsampleParameters");
   // 2 bounds each: k, max_neighbors, k_min, k_max, k_step (10) and radius (1); normals k (2),
   // radius (1); slippage 4 × 2; max_iterations (2); robust threshold (1), ransac_iterations (2);
   // segmentation distance (1), max_angle (2), min_points (2), merge_factor (2); torus sampling
   // major and minor radius (1 each), noise and normal_noise (1 each), spin, points, the four
   // coverage angles and outliers (2 each); motion surface radius, length and noise (1 each),
-  // points (2).
-  EXPECT_EQ(checked, 11u + 3u + 8u + 2u + 3u + 7u + 18u + 5u);
+  // points (2); subsample points (2), leaf (1).
+  EXPECT_EQ(checked, 11u + 3u + 8u + 2u + 3u + 7u + 18u + 5u + 3u);
 }
 
 // The message names the field, the range in the user's unit and the value in it: a max_angle of

@@ -3,7 +3,6 @@
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/subsampling.h"
 
-#include <array>
 #include <ostream>
 #include <sstream>
 #include <string>
@@ -12,36 +11,10 @@ namespace slipfit::pipeline::adapters {
 
 namespace {
 
-enum class Mode { random, voxel };
-constexpr std::array<std::pair<Mode, std::string_view>, 2> kModeNames{{
-    {Mode::random, "random"},
-    {Mode::voxel, "voxel"},
-}};
-
-enum class Position { mean, first };
-constexpr std::array<std::pair<Position, std::string_view>, 2> kPositionNames{{
-    {Position::mean, "mean"},
-    {Position::first, "first"},
-}};
-
 class SubsampleStage : public Stage {
  public:
-  void declare(OptionSet& o) override {
-    o.add("mode", mode_, kModeNames,
-          "random: each point kept with probability points / N (seeded; outliers keep their "
-          "proportion), represented by a kept point of its grid cell; voxel: one point per voxel "
-          "(even "
-          "density, but every isolated outlier survives).");
-    o.add("points", points_,
-          "Keep about this many points, one per voxel (the leaf is found in a few passes).")
-        .unit("points")
-        .range(100, 1e9);
-    o.add("leaf", leaf_, "Voxel mode: voxel edge; overrides points.").unit("units").above(0);
-    o.add("position", position_, kPositionNames,
-          "Voxel mode: where the analysis point lies. mean: at the centroid of its voxel's points "
-          "(as PCL's VoxelGrid): their noise averages down, so normals and fits on dense surfaces "
-          "see more than one sample's scatter; first: at the voxel's first input point.");
-  }
+  void declare(OptionSet& o) override { o.bind(p_); }
+  void prepare() override { p_.validate(); }
 
   DataFlow flow() const override { return {kPoints, 0u}; }
 
@@ -52,10 +25,9 @@ class SubsampleStage : public Stage {
     Eigen::Matrix3Xf x(3, n);
     for (Eigen::Index i = 0; i < n; ++i)
       x.col(i) = (*data.cloud)[static_cast<std::size_t>(i)].getVector3fMap();
-    const auto target = static_cast<std::size_t>(points_);
-    const Subsample s = mode_ == Mode::random
-                            ? randomSample(x, target, context.seed)
-                            : (leaf_ ? voxelSample(x, *leaf_) : voxelSampleTo(x, target));
+    const Subsample s = p_.mode == SubsampleMode::random
+                            ? randomSample(x, p_.points, context.seed)
+                            : (p_.leaf ? voxelSample(x, *p_.leaf) : voxelSampleTo(x, p_.points));
     if (s.kept.size() == data.size()) {
       context.report << "subsample: " << data.size() << " points, none dropped\n";
       return;
@@ -67,7 +39,7 @@ class SubsampleStage : public Stage {
       keep[static_cast<std::size_t>(k)] = 1;
     data.keepOnly(keep);
     std::string placed;
-    if (mode_ == Mode::voxel && position_ == Position::mean) {
+    if (p_.mode == SubsampleMode::voxel && p_.position == SubsamplePosition::mean) {
       RepresentedMean mean = representedMean(x, s);
       std::size_t averaged = 0;
       for (std::size_t k = 0; k < s.kept.size(); ++k) {
@@ -84,16 +56,14 @@ class SubsampleStage : public Stage {
     data.representative = s.representative;
     context.report << "subsample: " << data.size() << " of " << data.full->size()
                    << " points analysed ("
-                   << (mode_ == Mode::random ? std::string("random")
-                                             : "voxel " + std::to_string(s.leaf) + placed)
+                   << (p_.mode == SubsampleMode::random
+                           ? std::string("random")
+                           : "voxel " + std::to_string(s.leaf) + placed)
                    << "); results are carried back to every point\n";
   }
 
  private:
-  Mode mode_ = Mode::random;
-  int points_ = 150000;
-  std::optional<double> leaf_;
-  Position position_ = Position::mean;
+  SubsampleParameters p_;
 };
 
 }  // namespace

@@ -4,12 +4,74 @@
 /// out the density but keeps every isolated outlier (one per voxel); random sampling keeps the
 /// proportions.
 
+#include "slipfit/parameter_declaration.h"
+
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
+#include <optional>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 namespace slipfit {
+
+/// How the analysis points are chosen.
+enum class SubsampleMode {
+  random,  ///< each point with probability points / N (randomSample)
+  voxel    ///< one point per voxel (voxelSample, voxelSampleTo)
+};
+constexpr std::array<std::pair<SubsampleMode, std::string_view>, 2> kSubsampleModeNames{{
+    {SubsampleMode::random, "random"},
+    {SubsampleMode::voxel, "voxel"},
+}};
+
+/// Where a voxel's analysis point lies.
+enum class SubsamplePosition {
+  mean,  ///< the centroid of its voxel's points (representedMean)
+  first  ///< the voxel's first input point
+};
+constexpr std::array<std::pair<SubsamplePosition, std::string_view>, 2> kSubsamplePositionNames{{
+    {SubsamplePosition::mean, "mean"},
+    {SubsamplePosition::first, "first"},
+}};
+
+/// The choices of a subsample, as the pipeline's subsample stage makes them.
+struct SubsampleParameters {
+  SubsampleMode mode = SubsampleMode::random;
+  std::size_t points = 150000;  ///< about this many kept points
+  std::optional<double> leaf;   ///< voxel mode: the voxel edge, overriding points
+  SubsamplePosition position = SubsamplePosition::mean;
+
+  /// Each user-facing field with its one declaration (parameter_declaration.h).
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit(self.mode,
+          parameter("mode",
+                    "random: each point kept with probability points / N (seeded; outliers keep "
+                    "their proportion), represented by a kept point of its grid cell; voxel: one "
+                    "point per voxel (even density, but every isolated outlier survives)."),
+          kSubsampleModeNames);
+    visit(self.points, parameter("points",
+                                 "Keep about this many points, one per voxel (the leaf "
+                                 "is found in a few passes).")
+                           .in("points")
+                           .between(100, 1e9));
+    visit(self.leaf,
+          parameter("leaf", "Voxel mode: voxel edge; overrides points.").in("units").above(0));
+    visit(self.position,
+          parameter("position",
+                    "Voxel mode: where the analysis point lies. mean: at the centroid of its "
+                    "voxel's points (as PCL's VoxelGrid): their noise averages down, so normals "
+                    "and fits on dense surfaces see more than one sample's scatter; first: at the "
+                    "voxel's first input point."),
+          kSubsamplePositionNames);
+  }
+
+  /// Throws InvalidParameterError naming the field, its value and its declared range.
+  void validate() const { validateDeclared(*this, "subsample"); }
+};
 
 struct Subsample {
   double leaf = 0.0;                         ///< voxel edge used, units
