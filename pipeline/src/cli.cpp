@@ -1,5 +1,7 @@
 #include "slipfit/pipeline/cli.h"
 
+#include "slipfit/exceptions.h"
+
 #include "slipfit/pipeline/config.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/registry.h"
@@ -91,6 +93,7 @@ int describe(const std::string& name, std::ostream& out) {
     } catch (const OptionValueError&) {
       // Some stages have no complete default (crop needs limits); their flow does not depend on
       // the options that are missing.
+    } catch (const InvalidParameterError&) {
     }
     const DataFlow flow = stage->flow();
     out << "consumes: " << dataBitsText(flow.consumes)

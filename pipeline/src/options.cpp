@@ -41,13 +41,17 @@ double parseNumber(const YAML::Node& node, const Option& option, bool integer) {
   return value;
 }
 
-Eigen::Vector3f parseVec3(const YAML::Node& node, const Option& option) {
+Eigen::Vector3d parseVec3d(const YAML::Node& node, const Option& option) {
   if (!node.IsSequence() || node.size() != 3)
     throw OptionValueError("expected a list of three numbers like [0, 0, 1]");
-  Eigen::Vector3f v;
+  Eigen::Vector3d v;
   for (int i = 0; i < 3; ++i)
-    v[i] = static_cast<float>(parseNumber(node[i], option, false));
+    v[i] = parseNumber(node[i], option, false);
   return v;
+}
+
+Eigen::Vector3f parseVec3(const YAML::Node& node, const Option& option) {
+  return parseVec3d(node, option).cast<float>();
 }
 
 }  // namespace
@@ -190,13 +194,15 @@ Option& OptionSet::add(std::string name, std::optional<Eigen::Vector3f>& field, 
 }
 
 Option& OptionSet::add(std::string name, Eigen::Vector3d& field, std::string help) {
-  return push(std::move(name), "vec3", vec3Text(field.cast<float>()), std::move(help),
-              [&field](const YAML::Node& node, const Option& option) {
-                if (!node.IsSequence() || node.size() != 3)
-                  throw OptionValueError("expected a list of three numbers like [0, 0, 1]");
-                for (int i = 0; i < 3; ++i)
-                  field[i] = parseNumber(node[i], option, false);
-              });
+  return push(
+      std::move(name), "vec3", vec3Text(field.cast<float>()), std::move(help),
+      [&field](const YAML::Node& node, const Option& option) { field = parseVec3d(node, option); });
+}
+
+Option& OptionSet::add(std::string name, std::optional<Eigen::Vector3d>& field, std::string help) {
+  return push(
+      std::move(name), "vec3", field ? vec3Text(field->cast<float>()) : "unset", std::move(help),
+      [&field](const YAML::Node& node, const Option& option) { field = parseVec3d(node, option); });
 }
 
 const Option* OptionSet::find(std::string_view name) const {

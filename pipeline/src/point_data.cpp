@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 
 namespace slipfit::pipeline {
 
@@ -14,6 +15,23 @@ void PointData::setField(PointField field) {
       return;
     }
   fields.push_back(std::move(field));
+}
+
+PointData sampledPointData(const Eigen::Matrix3Xd& points, const Eigen::Matrix3Xd& normals,
+                           bool with_normals) {
+  PointData out;
+  out.cloud->resize(static_cast<std::size_t>(points.cols()));
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    auto& q = (*out.cloud)[static_cast<std::size_t>(i)];
+    q.getVector3fMap() = points.col(i).cast<float>();
+    if (with_normals)
+      q.getNormalVector3fMap() = normals.col(i).cast<float>();
+    else
+      q.getNormalVector3fMap().setConstant(std::numeric_limits<float>::quiet_NaN());
+    q.curvature = 0.0f;
+  }
+  out.has_normals = with_normals;
+  return out;
 }
 
 const PointField* PointData::field(const std::string& name) const {

@@ -17,7 +17,25 @@ namespace {
 }
 }  // namespace
 
+Primitive PrimitiveDescription::primitive() const {
+  validate();
+  switch (type) {
+    case PrimitiveType::plane:
+      return Plane{normal.normalized(), d};
+    case PrimitiveType::sphere:
+      return Sphere{center, radius};
+    case PrimitiveType::cylinder:
+      return Cylinder{axis.normalized(), point, radius};
+    case PrimitiveType::cone:
+      return Cone{axis.normalized(), apex, half_angle};
+    case PrimitiveType::torus:
+      break;
+  }
+  return Torus{axis.normalized(), center, major_radius, minor_radius};
+}
+
 void PrimitiveSamplingParameters::validate() const {
+  validateDeclared(*this, "primitive sampling");
   std::visit(
       [](const auto& s) {
         using T = std::decay_t<decltype(s)>;

@@ -14,8 +14,7 @@
 namespace slipfit {
 
 void RenderParameters::validate() const {
-  if (width < 16 || width > 8192 || height < 16 || height > 8192)
-    throw InvalidParameterError("render: width and height must be in [16, 8192]");
+  validateDeclared(*this, "render");
   if (!(field_of_view > 0.0 && field_of_view < kPi))
     throw InvalidParameterError("render: field_of_view must be in (0, 180) degrees");
   if (!(view_direction.allFinite() && view_direction.norm() > 0.0))

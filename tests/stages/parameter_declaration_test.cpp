@@ -5,12 +5,16 @@
 // tests/pipeline/option_ranges_test.cpp checks that the values at the bounds pass.
 
 #include "slipfit/parameter_declaration.h"
+#include "slipfit/labelled_scene.h"
 #include "slipfit/motion_surface_sampler.h"
 #include "slipfit/neighborhood_selection.h"
 #include "slipfit/normal_estimation.h"
+#include "slipfit/point_filters.h"
+#include "slipfit/primitive_sampler.h"
 #include "slipfit/robust_fit.h"
 #include "slipfit/segmentation.h"
 #include "slipfit/slippage.h"
+#include "slipfit/splat_renderer.h"
 #include "slipfit/subsampling.h"
 #include "slipfit/torus_sampler.h"
 #include "slipfit/weighted_fit.h"
@@ -73,18 +77,20 @@ std::vector<double> beyond(const ParameterDeclaration& d, bool integral) {
   return v;
 }
 
+/// \a base: valid parameters (the defaults, or for a type without a complete default, the
+/// smallest completion); each bound is crossed from there.
 template <typename Parameters>
-std::size_t expectEveryBoundEnforced(const char* name) {
-  EXPECT_NO_THROW(Parameters{}.validate()) << name << ": the defaults";
+std::size_t expectEveryBoundEnforced(const char* name, const Parameters& base = Parameters{}) {
+  EXPECT_NO_THROW(base.validate()) << name << ": the base parameters";
   std::size_t checked = 0;
-  Parameters names_only;
+  Parameters names_only = base;
   std::size_t index = 0;
   Parameters::forEachParameter(names_only, [&](auto& field, const ParameterDeclaration& d,
                                                const auto&...) {
     using T = std::decay_t<decltype(field)>;
     const std::size_t target = index++;
     for (const double value : beyond(d, isIntegral<T>())) {
-      Parameters p;
+      Parameters p = base;
       std::size_t k = 0;
       bool set = false;
       Parameters::forEachParameter(p, [&](auto& f, const ParameterDeclaration&, const auto&...) {
@@ -117,13 +123,25 @@ TEST(ParameterDeclarations, EveryDeclaredBoundIsEnforcedByTheLibrarysValidate) {
   checked += expectEveryBoundEnforced<TorusSamplingParameters>("TorusSamplingParameters");
   checked += expectEveryBoundEnforced<MotionSurfaceParameters>("MotionSurfaceParameters");
   checked += expectEveryBoundEnforced<SubsampleParameters>("SubsampleParameters");
+  checked += expectEveryBoundEnforced<PrimitiveDescription>("PrimitiveDescription");
+  checked += expectEveryBoundEnforced<PrimitiveSamplingParameters>("PrimitiveSamplingParameters");
+  checked += expectEveryBoundEnforced<LabelledSceneParameters>("LabelledSceneParameters");
+  checked += expectEveryBoundEnforced<RenderParameters>("RenderParameters");
+  VoxelGridParameters voxels;
+  voxels.leaf = 1.0;  // required: no default
+  checked += expectEveryBoundEnforced<VoxelGridParameters>("VoxelGridParameters", voxels);
+  checked += expectEveryBoundEnforced<OutlierRemovalParameters>("OutlierRemovalParameters");
   // 2 bounds each: k, max_neighbors, k_min, k_max, k_step (10) and radius (1); normals k (2),
   // radius (1); slippage 4 × 2; max_iterations (2); robust threshold (1), ransac_iterations (2);
   // segmentation distance (1), max_angle (2), min_points (2), merge_factor (2); torus sampling
   // major and minor radius (1 each), noise and normal_noise (1 each), spin, points, the four
   // coverage angles and outliers (2 each); motion surface radius, length and noise (1 each),
-  // points (2); subsample points (2), leaf (1).
-  EXPECT_EQ(checked, 11u + 3u + 8u + 2u + 3u + 7u + 18u + 5u + 3u);
+  // points (2); subsample points (2), leaf (1); primitive radius, major and minor radius (1
+  // each), half_angle (2); primitive sampling extent, extent_min, noise, normal_noise (1 each),
+  // the two coverage angles, cap, points, outliers and flips (2 each); scene size (1), shapes,
+  // points, noise and outliers (2 each); render width and height (2 each); voxel leaf (1);
+  // outlier removal k, stddev and min_neighbors (2 each), radius (1).
+  EXPECT_EQ(checked, 11u + 3u + 8u + 2u + 3u + 7u + 18u + 5u + 3u + 5u + 16u + 9u + 4u + 1u + 7u);
 }
 
 // The message names the field, the range in the user's unit and the value in it: a max_angle of

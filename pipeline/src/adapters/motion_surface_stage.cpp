@@ -20,16 +20,7 @@ class MotionSurfaceStage : public Stage {
     p.seed = context.seed;
     Eigen::Matrix3Xd x, n;
     sampleMotionSurface(p, x, n);
-    PointData out;
-    out.cloud->resize(static_cast<std::size_t>(x.cols()));
-    for (Eigen::Index i = 0; i < x.cols(); ++i) {
-      auto& q = (*out.cloud)[static_cast<std::size_t>(i)];
-      q.getVector3fMap() = x.col(i).cast<float>();
-      q.getNormalVector3fMap() = n.col(i).cast<float>();
-      q.curvature = 0.0f;
-    }
-    out.has_normals = true;
-    data = std::move(out);
+    data = sampledPointData(x, n);
     context.report << "sampled " << kMotionSurfaceNames[static_cast<std::size_t>(p.surface)].second
                    << ": " << data.size() << " points\n";
   }

@@ -2,7 +2,6 @@
 
 #include "slipfit/pipeline/errors.h"
 
-#include <algorithm>
 #include <ostream>
 #include <vector>
 
@@ -13,23 +12,17 @@ void requireInputCloud(const PointData& data) {
     throw RunError("filters select input points: place this stage before the subsample stage");
 }
 
-void keepFiltered(PointData& data, const pcl::Indices& kept, RunContext& context,
-                  const std::string& name, const std::string& why) {
+void keepFiltered(PointData& data, const FilterSelection& selection, RunContext& context,
+                  const std::string& name) {
   const std::size_t n = data.size();
+  const pcl::Indices& kept = selection.kept;
   if (kept.empty())
-    throw RunError("no point of the " + std::to_string(n) + " is kept (" + why + ")");
+    throw RunError("no point of the " + std::to_string(n) + " is kept (" + selection.why + ")");
   const std::size_t count = kept.size();  // PCL's filters select each index once
-  if (count < n) {
-    if (std::is_sorted(kept.begin(), kept.end())) {
-      data.keepOnly(kept);
-    } else {  // a grid filter's order: the points keep theirs
-      pcl::Indices ascending = kept;
-      std::sort(ascending.begin(), ascending.end());
-      data.keepOnly(ascending);
-    }
-  }
+  if (count < n)
+    data.keepOnly(kept);  // ascending, as every filter returns them
   context.report << name << ": " << count << " of " << n << " points kept, " << n - count
-                 << " dropped (" << why << ")\n";
+                 << " dropped (" << selection.why << ")\n";
 }
 
 }  // namespace slipfit::pipeline::adapters

@@ -5,10 +5,7 @@
 
 #include "slipfit/pipeline/point_data.h"
 #include "slipfit/pipeline/stage.h"
-
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-#include <pcl/types.h>
+#include "slipfit/point_filters.h"
 
 #include <string>
 
@@ -18,10 +15,10 @@ namespace slipfit::pipeline::adapters {
 /// so it comes before the subsample stage.
 void requireInputCloud(const PointData& data);
 
-/// Keeps the points \a kept (indices into data's cloud, any order) and reports
+/// Keeps the points a filter selected (slipfit/point_filters.h) and reports
 /// "<name>: <kept> of <n> points kept, <dropped> dropped (<why>)". Throws RunError when none is
 /// kept.
-void keepFiltered(PointData& data, const pcl::Indices& kept, RunContext& context,
-                  const std::string& name, const std::string& why);
+void keepFiltered(PointData& data, const FilterSelection& selection, RunContext& context,
+                  const std::string& name);
 
 }  // namespace slipfit::pipeline::adapters

@@ -39,23 +39,11 @@ class SegmentationStage : public Stage {
     o.add("render", render_, "File name of a PNG picture of the segments (empty: none).")
         .allowEmpty()
         .fileName();
-    o.add("view_direction", view_direction_,
-          "Render: direction from the scene's centre towards the camera.");
-    o.add("eye", eye_,
-          "Render: camera position (unset: the sensor's, looking along its z axis, for an "
-          "organized PCD or one with a VIEWPOINT; else along view_direction, framing the cloud).")
-        .unit("units");
-    o.add("image_width", image_width_, "Render: width.").unit("pixels").range(16, 8192);
-    o.add("image_height", image_height_, "Render: height.").unit("pixels").range(16, 8192);
+    o.bind(render_parameters_);
   }
 
   void prepare() override {
     parameters_.validate();
-    render_parameters_.width = image_width_;
-    render_parameters_.height = image_height_;
-    render_parameters_.view_direction = view_direction_.cast<double>();
-    if (eye_)
-      render_parameters_.eye = eye_->cast<double>();
     render_parameters_.validate();
   }
 
@@ -230,7 +218,7 @@ class SegmentationStage : public Stage {
     RenderParameters camera = render_parameters_;
     if (camera.eye)
       *camera.eye -= data.frame.shift;  // the config's eye is in the input's frame
-    if (!eye_ && data.sensor)
+    if (!render_parameters_.eye && data.sensor)
       useSensorCamera(camera, data.sensor->origin, data.sensor->orientation, x);
     const std::vector<std::uint8_t> image = renderSplats(x, rgb, nn, camera);
     context.outputs->add(render_, [&](const std::string& path) {
@@ -242,9 +230,6 @@ class SegmentationStage : public Stage {
   RenderParameters render_parameters_;
   std::string report_ = "primitives.yaml", segments_ = "segments.ply", render_ = "segments.png";
   bool segment_files_ = false;
-  Eigen::Vector3f view_direction_ = Eigen::Vector3f(1.0f, -1.3f, 1.1f);
-  std::optional<Eigen::Vector3f> eye_;
-  int image_width_ = 1024, image_height_ = 768;
 };
 
 }  // namespace

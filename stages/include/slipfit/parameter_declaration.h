@@ -55,6 +55,7 @@ struct ParameterDeclaration {
   std::string_view unit;  ///< the user's unit ("deg", "units", "points"), "" for none
   double scale = 1.0;     ///< field value = user value × scale
   ParameterRange range;
+  bool required = false;  ///< the user must give it (the default is only a placeholder)
 
   /// Builders, chained: parameter("k", "Neighbors per point.").in("neighbors").between(3, 10000).
   ParameterDeclaration& in(std::string_view user_unit, double to_field = 1.0) {
@@ -77,6 +78,10 @@ struct ParameterDeclaration {
   }
   ParameterDeclaration& atMost(double hi) {
     range.setHigh(hi, false);
+    return *this;
+  }
+  ParameterDeclaration& mustBeGiven() {
+    required = true;
     return *this;
   }
 };

@@ -2,6 +2,8 @@
 /// \file A small software renderer that draws a coloured point cloud as shaded, depth-tested
 /// round splats seen through a pinhole camera — a picture of a segmentation without a 3D viewer.
 
+#include "slipfit/parameter_declaration.h"
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -24,6 +26,21 @@ struct RenderParameters {
   /// Splat radius in pixels. Unset: from the projected point density.
   std::optional<double> splat_radius;
   std::uint8_t background[3] = {255, 255, 255};
+
+  /// The user-facing fields with their one declaration (parameter_declaration.h).
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit(self.view_direction,
+          parameter("view_direction",
+                    "Render: direction from the scene's centre towards the camera."));
+    visit(self.eye, parameter("eye",
+                              "Render: camera position (unset: the sensor's, looking along its z "
+                              "axis, for an organized PCD or one with a VIEWPOINT; else along "
+                              "view_direction, framing the cloud).")
+                        .in("units"));
+    visit(self.width, parameter("image_width", "Render: width.").in("pixels").between(16, 8192));
+    visit(self.height, parameter("image_height", "Render: height.").in("pixels").between(16, 8192));
+  }
 
   /// Throws InvalidParameterError naming the field.
   void validate() const;

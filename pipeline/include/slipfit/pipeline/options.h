@@ -137,6 +137,7 @@ class OptionSet {
   Option& add(std::string name, Eigen::Vector3f& field, std::string help);
   Option& add(std::string name, Eigen::Vector3d& field, std::string help);
   Option& add(std::string name, std::optional<Eigen::Vector3f>& field, std::string help);
+  Option& add(std::string name, std::optional<Eigen::Vector3d>& field, std::string help);
 
   /// An enumeration bound through its one name table.
   template <typename E, std::size_t N>
@@ -173,13 +174,15 @@ class OptionSet {
   template <typename Parameters>
   void bind(Parameters& parameters,
             std::initializer_list<std::pair<std::string_view, std::string_view>> renames = {}) {
-    Parameters::forEachParameter(
-        parameters, [&](auto& field, ParameterDeclaration d, const auto&... names) {
-          for (const auto& [declared, option] : renames)
-            if (d.name == declared)
-              d.name = option;
-          bindDeclared(field, d, names...).unit(std::string(d.unit)).range(d.range);
-        });
+    Parameters::forEachParameter(parameters, [&](auto& field, ParameterDeclaration d,
+                                                 const auto&... names) {
+      for (const auto& [declared, option] : renames)
+        if (d.name == declared)
+          d.name = option;
+      Option& option = bindDeclared(field, d, names...).unit(std::string(d.unit)).range(d.range);
+      if (d.required)
+        option.required();
+    });
   }
 
   const Option* find(std::string_view name) const;

@@ -101,6 +101,11 @@ struct PointData {
   void expandToFull(bool stage_fields = true);
 };
 
+/// The data of a sampler: 3 × N points and, when \a with_normals, their 3 × N normals (else the
+/// normals are NaN and has_normals false); curvature 0.
+PointData sampledPointData(const Eigen::Matrix3Xd& points, const Eigen::Matrix3Xd& normals,
+                           bool with_normals = true);
+
 /// "points", "normals, neighborhoods" ...
 std::string dataBitsText(unsigned bits);
 
