@@ -5,6 +5,7 @@
 // tests/pipeline/option_ranges_test.cpp checks that the values at the bounds pass.
 
 #include "slipfit/parameter_declaration.h"
+#include "slipfit/labelled_fit.h"
 #include "slipfit/labelled_scene.h"
 #include "slipfit/motion_surface_sampler.h"
 #include "slipfit/neighborhood_selection.h"
@@ -131,6 +132,7 @@ TEST(ParameterDeclarations, EveryDeclaredBoundIsEnforcedByTheLibrarysValidate) {
   voxels.leaf = 1.0;  // required: no default
   checked += expectEveryBoundEnforced<VoxelGridParameters>("VoxelGridParameters", voxels);
   checked += expectEveryBoundEnforced<OutlierRemovalParameters>("OutlierRemovalParameters");
+  checked += expectEveryBoundEnforced<LabelledFitParameters>("LabelledFitParameters");
   // 2 bounds each: k, max_neighbors, k_min, k_max, k_step (10) and radius (1); normals k (2),
   // radius (1); slippage 4 × 2; max_iterations (2); robust threshold (1), ransac_iterations (2);
   // segmentation distance (1), max_angle (2), min_points (2), merge_factor (2); torus sampling
@@ -140,8 +142,10 @@ TEST(ParameterDeclarations, EveryDeclaredBoundIsEnforcedByTheLibrarysValidate) {
   // each), half_angle (2); primitive sampling extent, extent_min, noise, normal_noise (1 each),
   // the two coverage angles, cap, points, outliers and flips (2 each); scene size (1), shapes,
   // points, noise and outliers (2 each); render width and height (2 each); voxel leaf (1);
-  // outlier removal k, stddev and min_neighbors (2 each), radius (1).
-  EXPECT_EQ(checked, 11u + 3u + 8u + 2u + 3u + 7u + 18u + 5u + 3u + 5u + 16u + 9u + 4u + 1u + 7u);
+  // outlier removal k, stddev and min_neighbors (2 each), radius (1); labelled fit
+  // max_iterations, min_points, ransac_iterations (2 each), inlier_distance, threshold (1 each).
+  EXPECT_EQ(checked,
+            11u + 3u + 8u + 2u + 3u + 7u + 18u + 5u + 3u + 5u + 16u + 9u + 4u + 1u + 7u + 8u);
 }
 
 // The message names the field, the range in the user's unit and the value in it: a max_angle of
