@@ -17,9 +17,7 @@ OpenMesh::Vec3d toOm(const Eigen::Vector3d& v) {
 }  // namespace
 
 void TorusMeshParameters::validate() const {
-  if (n_alpha < 3 || n_beta < 3)
-    throw InvalidParameterError("torus mesh: resolution must be at least 3 × 3, got " +
-                                std::to_string(n_alpha) + " × " + std::to_string(n_beta));
+  validateDeclared(*this, "torus mesh");
   if (spacing == TorusSpacing::parameter && (n_alpha % 2 || n_beta % 2))
     throw InvalidParameterError(
         "torus mesh: parameter spacing needs even resolutions (each half "

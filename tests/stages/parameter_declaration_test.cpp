@@ -17,6 +17,7 @@
 #include "slipfit/slippage.h"
 #include "slipfit/splat_renderer.h"
 #include "slipfit/subsampling.h"
+#include "slipfit/torus_mesh.h"
 #include "slipfit/torus_sampler.h"
 #include "slipfit/weighted_fit.h"
 
@@ -133,6 +134,7 @@ TEST(ParameterDeclarations, EveryDeclaredBoundIsEnforcedByTheLibrarysValidate) {
   checked += expectEveryBoundEnforced<VoxelGridParameters>("VoxelGridParameters", voxels);
   checked += expectEveryBoundEnforced<OutlierRemovalParameters>("OutlierRemovalParameters");
   checked += expectEveryBoundEnforced<LabelledFitParameters>("LabelledFitParameters");
+  checked += expectEveryBoundEnforced<TorusMeshParameters>("TorusMeshParameters");
   // 2 bounds each: k, max_neighbors, k_min, k_max, k_step (10) and radius (1); normals k (2),
   // radius (1); slippage 4 × 2; max_iterations (2); robust threshold (1), ransac_iterations (2);
   // segmentation distance (1), max_angle (2), min_points (2), merge_factor (2); torus sampling
@@ -143,9 +145,10 @@ TEST(ParameterDeclarations, EveryDeclaredBoundIsEnforcedByTheLibrarysValidate) {
   // the two coverage angles, cap, points, outliers and flips (2 each); scene size (1), shapes,
   // points, noise and outliers (2 each); render width and height (2 each); voxel leaf (1);
   // outlier removal k, stddev and min_neighbors (2 each), radius (1); labelled fit
-  // max_iterations, min_points, ransac_iterations (2 each), inlier_distance, threshold (1 each).
+  // max_iterations, min_points, ransac_iterations (2 each), inlier_distance, threshold (1 each);
+  // torus mesh alpha and beta resolutions (2 each).
   EXPECT_EQ(checked,
-            11u + 3u + 8u + 2u + 3u + 7u + 18u + 5u + 3u + 5u + 16u + 9u + 4u + 1u + 7u + 8u);
+            11u + 3u + 8u + 2u + 3u + 7u + 18u + 5u + 3u + 5u + 16u + 9u + 4u + 1u + 7u + 8u + 4u);
 }
 
 // The message names the field, the range in the user's unit and the value in it: a max_angle of

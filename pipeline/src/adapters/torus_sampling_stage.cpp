@@ -19,15 +19,7 @@ class TorusSamplingStage : public Stage {
     o.bind(p_);
     o.add("mesh", mesh_, "Also write the stitched quad mesh as OFF (with normals, NOFF) and PLY.");
     o.add("mesh_name", mesh_name_, "Base name of the mesh files in the output dir.").fileName();
-    o.add("mesh_alpha", m_.n_alpha, "Mesh vertices around the tube.")
-        .unit("vertices")
-        .range(3, 100000);
-    o.add("mesh_beta", m_.n_beta, "Mesh vertices around the axis.")
-        .unit("vertices")
-        .range(3, 100000);
-    o.add("mesh_spacing", m_.spacing, kTorusSpacingNames,
-          "angle: vertices uniform in (α, β); parameter: uniform in the quarters' (u, v) "
-          "(even resolutions).");
+    o.bind(m_);
     o.add("mesh_naive", naive_,
           "Also write <mesh_name>_naive.off: four separate quarter meshes with duplicated seam "
           "vertices and face-averaged normals, to compare with the stitched mesh.");

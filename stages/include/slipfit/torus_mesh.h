@@ -2,6 +2,7 @@
 /// \file A stitched, outward-oriented OpenMesh quad mesh of the whole torus, with analytic vertex
 /// normals, and the naive variant (four separate quarter meshes) for comparison.
 
+#include "slipfit/parameter_declaration.h"
 #include "slipfit/torus.h"
 
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
@@ -36,7 +37,24 @@ struct TorusMeshParameters {
   int n_alpha = 48;  ///< vertices around the tube, >= 3 (even for parameter spacing)
   int n_beta = 96;   ///< vertices around the axis, >= 3 (even for parameter spacing)
   TorusSpacing spacing = TorusSpacing::angle;
-  /// Throws InvalidParameterError.
+
+  /// Each user-facing field with its one declaration (parameter_declaration.h).
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit(self.n_alpha, parameter("mesh_alpha", "Mesh vertices around the tube.")
+                            .in("vertices")
+                            .between(3, 100000));
+    visit(
+        self.n_beta,
+        parameter("mesh_beta", "Mesh vertices around the axis.").in("vertices").between(3, 100000));
+    visit(self.spacing,
+          parameter("mesh_spacing",
+                    "angle: vertices uniform in (α, β); parameter: uniform in the quarters' (u, v) "
+                    "(even resolutions)."),
+          kTorusSpacingNames);
+  }
+
+  /// Throws InvalidParameterError naming the field.
   void validate() const;
 };
 
