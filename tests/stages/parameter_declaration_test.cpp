@@ -167,5 +167,43 @@ TEST(ParameterDeclarations, MessageNamesTheFieldRangeAndValueInTheUsersUnit) {
   EXPECT_NO_THROW(p.validate());
 }
 
+// The PCL-style classes take their parameters as PCL's setters do and check them once, when the
+// work runs: the message names the field.
+template <typename Run>
+void expectRefusedWhenRun(Run run, const std::string& field) {
+  try {
+    run();
+    ADD_FAILURE() << field << " out of range was accepted";
+  } catch (const InvalidParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+  }
+}
+
+TEST(ParameterDeclarations, PclStyleClassesCheckTheirParametersWhenTheyRun) {
+  const auto cloud = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  NeighborhoodParameters hood;
+  hood.k = 2;
+  NeighborhoodSelection<pcl::PointNormal> selection;
+  EXPECT_NO_THROW(selection.setParameters(hood));
+  selection.setInputCloud(cloud);
+  Neighborhoods neighborhoods;
+  expectRefusedWhenRun([&] { selection.compute(neighborhoods); }, "k");
+
+  NormalParameters normal;
+  normal.k = 1;
+  NormalEstimation<pcl::PointNormal, pcl::Normal> estimation;
+  EXPECT_NO_THROW(estimation.setParameters(normal));
+  estimation.setInputCloud(cloud);
+  pcl::PointCloud<pcl::Normal> normals;
+  expectRefusedWhenRun([&] { estimation.compute(normals); }, "k");
+
+  TorusSamplingParameters torus;
+  torus.points = 0;
+  TorusSampler sampler;
+  EXPECT_NO_THROW(sampler.setParameters(torus));
+  pcl::PointCloud<pcl::PointNormal> samples;
+  expectRefusedWhenRun([&] { sampler.sample(samples); }, "points");
+}
+
 }  // namespace
 }  // namespace slipfit

@@ -125,10 +125,8 @@ class NeighborhoodSelection : public pcl::PCLBase<PointT> {
 
   NeighborhoodSelection() = default;
 
-  void setParameters(const NeighborhoodParameters& parameters) {
-    parameters.validate();
-    parameters_ = parameters;
-  }
+  /// Checked when the work runs (one validation, PCL's initCompute convention).
+  void setParameters(const NeighborhoodParameters& parameters) { parameters_ = parameters; }
   const NeighborhoodParameters& getParameters() const { return parameters_; }
 
   /// A search structure to use instead of a new pcl::search::KdTree. If its input cloud is

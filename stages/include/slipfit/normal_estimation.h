@@ -80,10 +80,8 @@ class NormalEstimation : public pcl::PCLBase<PointInT> {
   using ConstPtr = std::shared_ptr<const NormalEstimation<PointInT, PointOutT>>;
   using SearchPtr = typename pcl::search::Search<PointInT>::Ptr;
 
-  void setParameters(const NormalParameters& parameters) {
-    parameters.validate();
-    parameters_ = parameters;
-  }
+  /// Checked when the work runs (one validation, PCL's initCompute convention).
+  void setParameters(const NormalParameters& parameters) { parameters_ = parameters; }
   const NormalParameters& getParameters() const { return parameters_; }
 
   /// Neighborhoods of the input cloud's points (one list per cloud point), used instead of

@@ -129,10 +129,8 @@ class SlippageSegmentation : public pcl::PCLBase<PointT> {
   void setLocalSlippage(typename pcl::PointCloud<PointSlippage>::ConstPtr slippage) {
     slippage_ = std::move(slippage);
   }
-  void setParameters(const SegmentationParameters& parameters) {
-    parameters.validate();
-    parameters_ = parameters;
-  }
+  /// Checked when the work runs (one validation, PCL's initCompute convention).
+  void setParameters(const SegmentationParameters& parameters) { parameters_ = parameters; }
   void segment(std::vector<pcl::PointIndices>& clusters);
   const SegmentationResult& result() const { return result_; }
 

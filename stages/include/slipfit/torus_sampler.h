@@ -113,10 +113,8 @@ struct TorusSamplingParameters {
 /// (outward for surface samples, random for outliers). The same parameters give the same cloud.
 class TorusSampler {
  public:
-  void setParameters(const TorusSamplingParameters& parameters) {
-    parameters.validate();
-    parameters_ = parameters;
-  }
+  /// Checked when the work runs (one validation, PCL's initCompute convention).
+  void setParameters(const TorusSamplingParameters& parameters) { parameters_ = parameters; }
   const TorusSamplingParameters& getParameters() const { return parameters_; }
 
   /// Fills \a cloud; \a outlier (optional) gets 1 for outliers, 0 for surface samples.
