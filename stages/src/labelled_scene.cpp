@@ -2,26 +2,6 @@
 
 namespace slipfit {
 
-SceneSamplingParameters LabelledSceneParameters::fixedLayout() const {
-  SceneSamplingParameters p;
-  p.points = points;
-  p.noise = noise;
-  p.outlier_fraction = outlier_fraction;
-  p.seed = seed;
-  return p;
-}
-
-RandomSceneParameters LabelledSceneParameters::randomLayout() const {
-  RandomSceneParameters p;
-  p.shapes = shapes;
-  p.points = points;
-  p.size = size;
-  p.noise = noise;
-  p.outlier_fraction = outlier_fraction;
-  p.seed = seed;
-  return p;
-}
-
 void LabelledSceneParameters::validate() const {
   validateDeclared(*this, "scene sampling");
   if (layout == SceneLayout::fixed)

@@ -8,6 +8,8 @@
 #include "slipfit/point_filters.h"
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace slipfit::pipeline::adapters {
 
@@ -20,5 +22,33 @@ void requireInputCloud(const PointData& data);
 /// kept.
 void keepFiltered(PointData& data, const FilterSelection& selection, RunContext& context,
                   const std::string& name);
+
+/// A stage that runs one filter of slipfit/point_filters.h on the input cloud: its options are the
+/// filter's Parameters, and `select` runs the filter on the cloud (positions, when not empty: where
+/// the kept points move, in order).
+template <typename Parameters>
+class FilterStage : public Stage {
+ public:
+  using Select = FilterSelection (*)(const PointData& data, const Parameters& parameters,
+                                     std::vector<Eigen::Vector3f>& positions);
+  FilterStage(std::string name, Select select) : name_(std::move(name)), select_(select) {}
+
+  void declare(OptionSet& o) override { o.bind(parameters_); }
+  void prepare() override { parameters_.validate(); }
+  DataFlow flow() const override { return {kPoints, 0u}; }
+
+  void run(PointData& data, RunContext& context) override {
+    requireInputCloud(data);
+    std::vector<Eigen::Vector3f> positions;
+    keepFiltered(data, select_(data, parameters_, positions), context, name_);
+    for (std::size_t k = 0; k < positions.size(); ++k)
+      (*data.cloud)[k].getVector3fMap() = positions[k];
+  }
+
+ private:
+  Parameters parameters_;
+  std::string name_;
+  Select select_;
+};
 
 }  // namespace slipfit::pipeline::adapters

@@ -65,11 +65,27 @@ struct LabelledSceneParameters {
   }
 
   /// The parameters of the layout's sampler.
-  SceneSamplingParameters fixedLayout() const;
-  RandomSceneParameters randomLayout() const;
+  SceneSamplingParameters fixedLayout() const { return withShared(SceneSamplingParameters{}); }
+  RandomSceneParameters randomLayout() const {
+    RandomSceneParameters p = withShared(RandomSceneParameters{});
+    p.shapes = shapes;
+    p.size = size;
+    return p;
+  }
 
   /// Throws InvalidParameterError naming the field (the layout's own limits included).
   void validate() const;
+
+ private:
+  /// \a p with the options both layouts have.
+  template <typename Layout>
+  Layout withShared(Layout p) const {
+    p.points = points;
+    p.noise = noise;
+    p.outlier_fraction = outlier_fraction;
+    p.seed = seed;
+    return p;
+  }
 };
 
 struct LabelledScene {

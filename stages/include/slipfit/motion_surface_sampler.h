@@ -5,6 +5,7 @@
 /// exact unit normals.
 
 #include "slipfit/parameter_declaration.h"
+#include "slipfit/sampler_parameters.h"
 
 #include <Eigen/Core>
 
@@ -59,9 +60,7 @@ struct MotionSurfaceParameters {
     visit(self.center, parameter("center", "Where the surface's axis starts.").in("units"));
     visit(self.axis, parameter("axis", "Direction of the axis (normalised)."));
     visit(self.points, parameter("points", "Samples.").in("points").between(1, 1e9));
-    visit(
-        self.noise,
-        parameter("noise", "σ of Gaussian noise added to each coordinate.").in("units").atLeast(0));
+    visit(self.noise, positionNoiseParameter());
   }
 
   /// Throws InvalidParameterError naming the field, its value and the broken constraint.

@@ -6,6 +6,7 @@
 #include "slipfit/angle_units.h"
 #include "slipfit/parameter_declaration.h"
 #include "slipfit/primitives.h"
+#include "slipfit/sampler_parameters.h"
 
 #include <Eigen/Core>
 
@@ -117,15 +118,9 @@ struct PrimitiveSamplingParameters {
               .in("deg", kDegree)
               .between(0.01, 180));
     visit(self.axis_hint, parameter("cap_axis", "Sphere: direction of the cap's centre."));
-    visit(self.points, parameter("points", "Surface samples (outliers come on top).")
-                           .in("points")
-                           .between(1, 1e9));
-    visit(
-        self.noise,
-        parameter("noise", "σ of Gaussian noise added to each coordinate.").in("units").atLeast(0));
-    visit(self.normal_noise, parameter("normal_noise", "σ of the perturbation of the normals.")
-                                 .in("deg", kDegree)
-                                 .atLeast(0));
+    visit(self.points, surfaceSamplesParameter());
+    visit(self.noise, positionNoiseParameter());
+    visit(self.normal_noise, normalNoiseParameter());
     visit(self.outlier_fraction,
           parameter("outliers",
                     "Outliers per surface sample, uniform in the samples' box; field 'outlier'.")

@@ -4,6 +4,7 @@
 
 #include "slipfit/angle_units.h"
 #include "slipfit/parameter_declaration.h"
+#include "slipfit/sampler_parameters.h"
 #include "slipfit/torus.h"
 #include "slipfit/torus_mesh.h"
 
@@ -61,9 +62,7 @@ struct TorusSamplingParameters {
                                "coverage).")
                          .in("deg", kDegree)
                          .between(-360, 360));
-    visit(self.points, parameter("points", "Surface samples (outliers come on top).")
-                           .in("points")
-                           .between(1, 1e9));
+    visit(self.points, surfaceSamplesParameter());
     visit(self.sampling,
           parameter("sampling",
                     "area: uniform on the surface (density ∝ R + r cos α); angle: uniform in (α, "
@@ -90,12 +89,8 @@ struct TorusSamplingParameters {
               .in("deg", kDegree)
               .above(0)
               .atMost(360));
-    visit(
-        self.noise,
-        parameter("noise", "σ of Gaussian noise added to each coordinate.").in("units").atLeast(0));
-    visit(self.normal_noise, parameter("normal_noise", "σ of the perturbation of the normals.")
-                                 .in("deg", kDegree)
-                                 .atLeast(0));
+    visit(self.noise, positionNoiseParameter());
+    visit(self.normal_noise, normalNoiseParameter());
     visit(self.outlier_fraction,
           parameter("outliers",
                     "Outliers per surface sample, uniform in the bounding box with random normals; "
