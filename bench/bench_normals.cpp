@@ -6,8 +6,8 @@
 // bench/run_normals.sh runs each case in its own process to report peak memory as well.
 #include "shapes.h"
 
-#include "slipfit/neighborhood_selection.h"
-#include "slipfit/normal_estimation.h"
+#include "slipfit/neighborhoods/neighborhood_selection.h"
+#include "slipfit/neighborhoods/normal_estimation.h"
 #include "slipfit/pipeline/progress.h"
 #include "slipfit/pipeline/registry.h"
 

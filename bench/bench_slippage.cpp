@@ -6,11 +6,11 @@
 // 10^5 points.
 #include "shapes.h"
 
-#include "slipfit/local_slippage.h"
-#include "slipfit/neighborhood_selection.h"
-#include "slipfit/precomputed_search.h"
-#include "slipfit/shape_classification.h"
-#include "slipfit/slippage.h"
+#include "slipfit/slippage/local_slippage.h"
+#include "slipfit/neighborhoods/neighborhood_selection.h"
+#include "slipfit/neighborhoods/precomputed_search.h"
+#include "slipfit/slippage/shape_classification.h"
+#include "slipfit/slippage/slippage.h"
 
 #include <benchmark/benchmark.h>
 #include <pcl/features/normal_3d_omp.h>

@@ -7,8 +7,8 @@
 // TRUTH.ply carries the field truth_label; RESULT_DIR holds segments.ply (fields label and
 // primitive) and primitives.yaml — slipfit's segmentation stage and bench/cgal_ransac both write
 // them. Prints one line of key=value pairs.
-#include "slipfit/scene_sampler.h"
-#include "slipfit/segmentation_metrics.h"
+#include "slipfit/sampling/scene_sampler.h"
+#include "slipfit/segmentation/segmentation_metrics.h"
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/io/ply_io.h>

@@ -1,6 +1,6 @@
 #include "slipfit/pipeline/config.h"
 
-#include "slipfit/exceptions.h"
+#include "slipfit/core/exceptions.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/registry.h"
 

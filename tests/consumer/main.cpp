@@ -1,7 +1,7 @@
 // Estimates consistently oriented normals of a small sphere with slipfit's PCL-style classes and
 // checks that they point outward.
-#include <slipfit/neighborhood_selection.h>
-#include <slipfit/normal_estimation.h>
+#include <slipfit/neighborhoods/neighborhood_selection.h>
+#include <slipfit/neighborhoods/normal_estimation.h>
 
 #include <pcl/point_types.h>
 

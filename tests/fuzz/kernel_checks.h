@@ -4,11 +4,11 @@
 // matrix and its analysis, Bézier/NURBS torus evaluation. A kernel may refuse (a status, a
 // degenerate verdict, an exception of the documented kinds) but must not crash, and a result it
 // calls ok must be finite.
-#include "slipfit/exceptions.h"
-#include "slipfit/primitives.h"
-#include "slipfit/slippage.h"
-#include "slipfit/torus.h"
-#include "slipfit/weighted_fit.h"
+#include "slipfit/core/exceptions.h"
+#include "slipfit/fitting/primitives.h"
+#include "slipfit/slippage/slippage.h"
+#include "slipfit/surfaces/torus.h"
+#include "slipfit/fitting/weighted_fit.h"
 
 #include <cmath>
 #include <cstdint>

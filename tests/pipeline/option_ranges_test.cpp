@@ -7,7 +7,7 @@
 #include "slipfit/pipeline/options.h"
 #include "slipfit/pipeline/registry.h"
 
-#include "slipfit/exceptions.h"
+#include "slipfit/core/exceptions.h"
 
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>

@@ -3,7 +3,7 @@
 // byte-identical outputs across runs and thread counts.
 #include "run_cli.h"
 #include "slipfit/pipeline/cloud_io.h"
-#include "slipfit/segmentation_metrics.h"
+#include "slipfit/segmentation/segmentation_metrics.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

@@ -3,8 +3,8 @@
 
 #include "run_cli.h"
 #include "slipfit/pipeline/cloud_io.h"
-#include "slipfit/torus.h"
-#include "slipfit/torus_mesh.h"
+#include "slipfit/surfaces/torus.h"
+#include "slipfit/surfaces/torus_mesh.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

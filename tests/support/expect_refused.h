@@ -2,7 +2,7 @@
 /// \file The check every parameters struct's validate() gets: the defaults pass, and one field set
 /// out of its range throws InvalidParameterError whose message names that field.
 
-#include "slipfit/exceptions.h"
+#include "slipfit/core/exceptions.h"
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 /// \file kNN neighborhoods of a test cloud, and normals estimated on them (the first two steps of
 /// every per-point test pipeline).
 
-#include "slipfit/neighborhood_selection.h"
-#include "slipfit/normal_estimation.h"
+#include "slipfit/neighborhoods/neighborhood_selection.h"
+#include "slipfit/neighborhoods/normal_estimation.h"
 
 #include <memory>
 

@@ -1,8 +1,8 @@
 #include "varied_shapes.h"
 
-#include "slipfit/motion_surface_sampler.h"
-#include "slipfit/normal_estimation.h"
-#include "slipfit/primitive_sampler.h"
+#include "slipfit/sampling/motion_surface_sampler.h"
+#include "slipfit/neighborhoods/normal_estimation.h"
+#include "slipfit/sampling/primitive_sampler.h"
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>

@@ -4,7 +4,7 @@
 /// density gradients, scan lines, estimated normals, flipped normals), and the one-motion
 /// surfaces (vases, closed and open extrusions, helicoids, twisted columns) with their motion.
 
-#include "slipfit/slippage.h"
+#include "slipfit/slippage/slippage.h"
 
 #include <Eigen/Core>
 

@@ -1,6 +1,6 @@
 #include "adapters.h"
 
-#include "slipfit/motion_surface_sampler.h"
+#include "slipfit/sampling/motion_surface_sampler.h"
 #include "slipfit/pipeline/errors.h"
 
 #include <ostream>

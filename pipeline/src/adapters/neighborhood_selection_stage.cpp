@@ -1,6 +1,6 @@
 #include "adapters.h"
 
-#include "slipfit/neighborhood_selection.h"
+#include "slipfit/neighborhoods/neighborhood_selection.h"
 #include "slipfit/pipeline/errors.h"
 
 #include <ostream>

@@ -1,7 +1,7 @@
 #include "adapters.h"
 
-#include "slipfit/name_table.h"
-#include "slipfit/normal_estimation.h"
+#include "slipfit/core/name_table.h"
+#include "slipfit/neighborhoods/normal_estimation.h"
 #include "slipfit/pipeline/errors.h"
 
 #include <ostream>

@@ -5,7 +5,7 @@
 
 #include "slipfit/pipeline/point_data.h"
 #include "slipfit/pipeline/stage.h"
-#include "slipfit/point_filters.h"
+#include "slipfit/filters/point_filters.h"
 
 #include <string>
 #include <utility>
@@ -17,13 +17,13 @@ namespace slipfit::pipeline::adapters {
 /// so it comes before the subsample stage.
 void requireInputCloud(const PointData& data);
 
-/// Keeps the points a filter selected (slipfit/point_filters.h) and reports
+/// Keeps the points a filter selected (slipfit/filters/point_filters.h) and reports
 /// "<name>: <kept> of <n> points kept, <dropped> dropped (<why>)". Throws RunError when none is
 /// kept.
 void keepFiltered(PointData& data, const FilterSelection& selection, RunContext& context,
                   const std::string& name);
 
-/// A stage that runs one filter of slipfit/point_filters.h on the input cloud: its options are the
+/// A stage that runs one filter of slipfit/filters/point_filters.h on the input cloud: its options are the
 /// filter's Parameters, and `select` runs the filter on the cloud (positions, when not empty: where
 /// the kept points move, in order).
 template <typename Parameters>

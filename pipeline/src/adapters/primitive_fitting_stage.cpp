@@ -1,7 +1,7 @@
 #include "adapters.h"
 
-#include "slipfit/cloud_maps.h"
-#include "slipfit/labelled_fit.h"
+#include "slipfit/core/cloud_maps.h"
+#include "slipfit/fitting/labelled_fit.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"

@@ -1,7 +1,7 @@
 #include "adapters.h"
 
 #include "slipfit/pipeline/errors.h"
-#include "slipfit/primitive_sampler.h"
+#include "slipfit/sampling/primitive_sampler.h"
 
 #include <ostream>
 

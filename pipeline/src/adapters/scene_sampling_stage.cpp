@@ -1,6 +1,6 @@
 #include "adapters.h"
 
-#include "slipfit/labelled_scene.h"
+#include "slipfit/sampling/labelled_scene.h"
 
 #include <ostream>
 

@@ -1,15 +1,15 @@
 #include "adapters.h"
 
-#include "slipfit/angle_units.h"
-#include "slipfit/cloud_maps.h"
+#include "slipfit/core/angle_units.h"
+#include "slipfit/core/cloud_maps.h"
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
-#include "slipfit/segment_palette.h"
-#include "slipfit/segmentation.h"
-#include "slipfit/segmentation_carry_back.h"
-#include "slipfit/splat_renderer.h"
+#include "slipfit/render/segment_palette.h"
+#include "slipfit/segmentation/segmentation.h"
+#include "slipfit/segmentation/segmentation_carry_back.h"
+#include "slipfit/render/splat_renderer.h"
 
 #include <pcl/io/png_io.h>
 

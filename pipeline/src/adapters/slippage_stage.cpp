@@ -1,13 +1,13 @@
 #include "adapters.h"
 
-#include "slipfit/cloud_maps.h"
-#include "slipfit/local_slippage.h"
+#include "slipfit/core/cloud_maps.h"
+#include "slipfit/slippage/local_slippage.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
-#include "slipfit/shape_classification.h"
-#include "slipfit/slippage.h"
-#include "slipfit/weighted_fit.h"
+#include "slipfit/slippage/shape_classification.h"
+#include "slipfit/slippage/slippage.h"
+#include "slipfit/fitting/weighted_fit.h"
 
 #include <fstream>
 #include <ostream>

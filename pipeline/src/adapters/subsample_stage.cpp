@@ -1,7 +1,7 @@
 #include "adapters.h"
 
 #include "slipfit/pipeline/errors.h"
-#include "slipfit/subsampling.h"
+#include "slipfit/filters/subsampling.h"
 
 #include <ostream>
 #include <sstream>

@@ -1,10 +1,10 @@
 #include "adapters.h"
 
-#include "slipfit/angle_units.h"
+#include "slipfit/core/angle_units.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/mesh_io.h"
 #include "slipfit/pipeline/output_files.h"
-#include "slipfit/torus_sampler.h"
+#include "slipfit/sampling/torus_sampler.h"
 
 #include <iomanip>
 #include <ostream>

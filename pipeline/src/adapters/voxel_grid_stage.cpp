@@ -1,7 +1,7 @@
 #include "adapters.h"
 #include "point_filter.h"
 
-#include "slipfit/point_filters.h"
+#include "slipfit/filters/point_filters.h"
 
 #include <vector>
 

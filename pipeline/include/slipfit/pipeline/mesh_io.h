@@ -1,7 +1,7 @@
 #pragma once
 /// \file Writing OpenMesh meshes (OFF, PLY) through OpenMesh's own writers.
 
-#include "slipfit/torus_mesh.h"
+#include "slipfit/surfaces/torus_mesh.h"
 
 #include <string>
 

@@ -3,8 +3,8 @@
 /// unit, range, help); parsing, validation, `slipfit describe` and the docs all read that one
 /// declaration (the PDAL addArgs model).
 
-#include "slipfit/name_table.h"
-#include "slipfit/parameter_declaration.h"
+#include "slipfit/core/name_table.h"
+#include "slipfit/core/parameter_declaration.h"
 
 #include <Eigen/Core>
 

@@ -2,7 +2,7 @@
 /// \file What flows between pipeline stages: a PCL cloud plus the per-point fields and shared
 /// structures that stages add.
 
-#include "slipfit/neighborhoods.h"
+#include "slipfit/neighborhoods/neighborhoods.h"
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/point_cloud.h>

@@ -1,0 +1,113 @@
+#pragma once
+/// \file Subsampling that remembers, for every point, which kept point stands for it — so that an
+/// analysis run on the subsample can be carried back to every input point. Voxel sampling evens
+/// out the density but keeps every isolated outlier (one per voxel); random sampling keeps the
+/// proportions.
+
+#include "slipfit/core/parameter_declaration.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace slipfit {
+
+/// How the analysis points are chosen.
+enum class SubsampleMode {
+  random,  ///< each point with probability points / N (randomSample)
+  voxel    ///< one point per voxel (voxelSample, voxelSampleTo)
+};
+constexpr std::array<std::pair<SubsampleMode, std::string_view>, 2> kSubsampleModeNames{{
+    {SubsampleMode::random, "random"},
+    {SubsampleMode::voxel, "voxel"},
+}};
+
+/// Where a voxel's analysis point lies.
+enum class SubsamplePosition {
+  mean,  ///< the centroid of its voxel's points (representedMean)
+  first  ///< the voxel's first input point
+};
+constexpr std::array<std::pair<SubsamplePosition, std::string_view>, 2> kSubsamplePositionNames{{
+    {SubsamplePosition::mean, "mean"},
+    {SubsamplePosition::first, "first"},
+}};
+
+/// The choices of a subsample, as the pipeline's subsample stage makes them.
+struct SubsampleParameters {
+  SubsampleMode mode = SubsampleMode::random;
+  std::size_t points = 150000;  ///< about this many kept points
+  std::optional<double> leaf;   ///< voxel mode: the voxel edge, overriding points
+  SubsamplePosition position = SubsamplePosition::mean;
+
+  /// Each user-facing field with its one declaration (parameter_declaration.h).
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit(self.mode,
+          parameter("mode",
+                    "random: each point kept with probability points / N (seeded; outliers keep "
+                    "their proportion), represented by a kept point of its grid cell; voxel: one "
+                    "point per voxel (even density, but every isolated outlier survives)."),
+          kSubsampleModeNames);
+    visit(self.points, parameter("points",
+                                 "Keep about this many points, one per voxel (the leaf "
+                                 "is found in a few passes).")
+                           .in("points")
+                           .between(100, 1e9));
+    visit(self.leaf,
+          parameter("leaf", "Voxel mode: voxel edge; overrides points.").in("units").above(0));
+    visit(self.position,
+          parameter("position",
+                    "Voxel mode: where the analysis point lies. mean: at the centroid of its "
+                    "voxel's points (as PCL's VoxelGrid): their noise averages down, so normals "
+                    "and fits on dense surfaces see more than one sample's scatter; first: at the "
+                    "voxel's first input point."),
+          kSubsamplePositionNames);
+  }
+
+  /// Throws InvalidParameterError naming the field, its value and its declared range.
+  void validate() const { validateDeclared(*this, "subsample"); }
+};
+
+struct Subsample {
+  double leaf = 0.0;                         ///< voxel edge used, units
+  std::vector<std::int32_t> kept;            ///< indices of the kept points, ascending
+  std::vector<std::int32_t> representative;  ///< per input point: its position in `kept`
+};
+
+/// One point per occupied voxel of edge \a leaf (the first in index order: deterministic);
+/// non-finite points are represented by nothing (−1). Throws InvalidParameterError for a leaf
+/// that is not positive or would overflow the 21-bit voxel keys.
+Subsample voxelSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, double leaf);
+
+/// voxelSample with the leaf adjusted (a few passes, each O(N)) so that about \a target points
+/// are kept; no subsampling (leaf 0, every point kept) when there are at most \a target points.
+Subsample voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target);
+
+/// The mean position of the input points each kept point stands for (its voxel's centroid in
+/// voxel sampling, as PCL's VoxelGrid places its points) and how many they are. A mean of m
+/// points with independent noise σ has noise σ/√m: the analysis of a dense surface sees it with
+/// the noise of its density, not of one sample (see SegmentationKernel, `averaged`).
+struct RepresentedMean {
+  Eigen::Matrix3Xf mean;             ///< 3 × kept, in the order of `kept`
+  std::vector<std::uint32_t> count;  ///< input points per kept point (≥ 1)
+};
+
+/// Means and counts of the points each kept point of \a sample represents (summed in double, in
+/// index order: deterministic). Throws InvalidParameterError when \a sample is not of \a points.
+RepresentedMean representedMean(const Eigen::Ref<const Eigen::Matrix3Xf>& points,
+                                const Subsample& sample);
+
+/// About \a target points drawn uniformly at random (seeded; each point with probability
+/// target / N, so the result is reproducible). A point is represented by the first kept point of
+/// its cell in a grid of about eight kept points per cell, or by nothing (−1) when its cell holds
+/// none — isolated points, mostly outliers; `leaf` is that grid's cell. No subsampling when there
+/// are at most \a target points.
+Subsample randomSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target,
+                       std::uint64_t seed);
+
+}  // namespace slipfit

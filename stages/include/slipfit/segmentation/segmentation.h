@@ -1,0 +1,149 @@
+#pragma once
+/// \file Scene segmentation into primitives by region growing from local slippage (after Gelfand
+/// & Guibas, SGP 2004): seeds where the per-point slippage is confidently one primitive, growth
+/// over the shared kNN graph while points agree with the region's weighted fit, refits as regions
+/// grow, merging of adjacent regions of one primitive, and label −1 for points that fit nothing.
+
+#include "slipfit/core/angle_units.h"
+#include "slipfit/neighborhoods/depth_quantization.h"
+#include "slipfit/slippage/local_slippage.h"
+#include "slipfit/neighborhoods/neighborhoods.h"
+#include "slipfit/core/parameter_declaration.h"
+#include "slipfit/slippage/slippage.h"
+#include "slipfit/fitting/weighted_fit.h"
+
+#include <pcl/PointIndices.h>
+#include <pcl/pcl_base.h>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace slipfit {
+
+struct SegmentationParameters {
+  /// Largest point-to-primitive distance of a member, units. Unset: 3 σ̂ + 1/20 of the median
+  /// spacing, σ̂ the noise estimated from the lower quartile of the neighborhoods' residuals
+  /// (docs/THEORY.md §6).
+  std::optional<double> distance;
+  /// Largest angle between a member's normal and the primitive's (unsigned), radians.
+  double max_angle = 30.0 * kDegree;
+  /// Smallest segment, points. Unset: 20 (an absolute count, whatever N).
+  std::optional<std::size_t> min_points;
+  /// Adjacent segments merge when the fit of their union has an RMS distance at most this factor
+  /// times the larger of theirs.
+  double merge_factor = 1.5;
+  /// OpenMP threads for the fits tried in parallel (the result does not depend on them); 0 means as
+  /// many as the machine has.
+  int threads = 0;
+
+  /// Each user-facing field with its one declaration (parameter_declaration.h).
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit(self.distance,
+          parameter("distance",
+                    "Largest point-to-primitive distance of a member (unset: 3 × the noise "
+                    "estimated from the neighborhoods + 1/20 of the median spacing).")
+              .in("units")
+              .above(0));
+    visit(self.max_angle,
+          parameter("max_angle", "Largest angle between a member's normal and the primitive's.")
+              .in("deg", kDegree)
+              .above(0)
+              .atMost(90));
+    visit(self.min_points,
+          parameter("min_points", "Smallest segment (unset: 20).").in("points").between(3, 1e9));
+    visit(self.merge_factor,
+          parameter("merge_factor",
+                    "Adjacent segments merge when the best fit of their union has an RMS distance "
+                    "at most this factor times the larger of theirs.")
+              .between(1, 10));
+  }
+
+  /// Throws InvalidParameterError naming the field, its value and its declared range.
+  void validate() const;
+};
+
+/// One segment: its points and the weighted fit of its primitive (refined on the true distance).
+struct Segment {
+  std::vector<int> indices;                     ///< cloud indices, ascending
+  FitResult fit;                                ///< type, parameters, losses
+  SlippageType seed_type = SlippageType::none;  ///< the local slippage type of its seed
+  double rms_distance = 0.0;                    ///< RMS point-to-surface distance
+  double max_distance = 0.0;                    ///< largest point-to-surface distance
+  /// The slippage of the whole segment; its primitive was the second starting point of the
+  /// refinement (the better of the two is kept).
+  std::optional<SlippageResult> slippage;
+};
+
+struct SegmentationResult {
+  std::vector<std::int32_t> labels;  ///< per point: segment index, −1 unassigned
+  std::vector<Segment> segments;     ///< largest first
+  double distance = 0.0;  ///< the distance tolerance used (the floor of it, with a lattice)
+  /// The coordinate recorded on levels, if any (Kinect-like depth): a point's tolerance is
+  /// `distance` plus `step_factor` times the local step there.
+  QuantizedAxis lattice;
+  double step_factor = 0.0;
+  /// The distance tolerance of a point at \a p.
+  double tolerance(const Eigen::Vector3d& p) const {
+    return distance + step_factor * lattice.stepAt(p);
+  }
+  double noise = 0.0;  ///< the noise estimate σ̂ (units)
+  /// distance = noise_factor · noise + a floor from the spacing; 0 when the distance was given.
+  double noise_factor = 0.0;
+  double max_angle = 0.0;         ///< the angle tolerance used, radians
+  std::size_t min_points = 0;     ///< the smallest segment allowed
+  std::size_t regions_grown = 0;  ///< seeds that were grown (kept or not)
+  std::size_t merges = 0;         ///< pairs of segments merged
+  /// Regions joined to a neighbor that explains them as well as its own points (fragments of one
+  /// surface, absorbFragments).
+  std::size_t absorbed = 0;
+  std::size_t revised = 0;  ///< regions whose type the contested points changed
+  /// Regions dropped because their points fill the tolerance slab like random points (RMS
+  /// distance above 0.45 ε), not a surface: a cloud of noise gives no segment.
+  std::size_t volumes = 0;
+};
+
+/// Segments a cloud (3 × N points and normals, any sign) given each point's neighbors and local
+/// slippage type. Deterministic; throws DegenerateInputError on mismatched sizes or an empty
+/// cloud.
+SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                     const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                     const Neighborhoods& neighborhoods,
+                                     const std::vector<SlippageType>& local_types,
+                                     const SegmentationParameters& parameters = {});
+
+/// PCL-style front end: setInputCloud() (a point type with normals), setNeighborhoods(),
+/// setLocalSlippage() (from LocalSlippage over the whole cloud), then segment(), which returns
+/// one pcl::PointIndices per segment like pcl::RegionGrowing; result() has labels and fits.
+template <typename PointT>
+class SlippageSegmentation : public pcl::PCLBase<PointT> {
+ public:
+  using Ptr = std::shared_ptr<SlippageSegmentation<PointT>>;
+  void setNeighborhoods(std::shared_ptr<const Neighborhoods> neighborhoods) {
+    neighborhoods_ = std::move(neighborhoods);
+  }
+  void setLocalSlippage(typename pcl::PointCloud<PointSlippage>::ConstPtr slippage) {
+    slippage_ = std::move(slippage);
+  }
+  /// Checked when the work runs (one validation, PCL's initCompute convention).
+  void setParameters(const SegmentationParameters& parameters) { parameters_ = parameters; }
+  void segment(std::vector<pcl::PointIndices>& clusters);
+  const SegmentationResult& result() const { return result_; }
+
+ protected:
+  using pcl::PCLBase<PointT>::input_;
+
+ private:
+  std::shared_ptr<const Neighborhoods> neighborhoods_;
+  typename pcl::PointCloud<PointSlippage>::ConstPtr slippage_;
+  SegmentationParameters parameters_;
+  SegmentationResult result_;
+};
+
+}  // namespace slipfit
+
+#include "slipfit/segmentation/impl/segmentation.hpp"

@@ -1,0 +1,114 @@
+#pragma once
+/// \file The segmentation kernel as named phases, apart from its PCL front end
+/// (SlippageSegmentation, segmentation.h). segmentBySlippage runs them in this order:
+///
+/// 1. estimateScale — noise σ̂, spacing, a quantized depth axis → each point's distance tolerance;
+/// 2. growSlippageSeeds — seeding where the neighbors agree on the local slippage type, growth
+///    bounded by the region's own fit, the type re-chosen on the grown region (selection);
+/// 3. growFreeSeeds — a second seeding round from the points still free (small faces whose
+///    neighborhoods all straddle an edge), with the simplest adequate type of the seed's neighbors;
+/// 4. mergeRegions — adjacent regions whose union one primitive fits about as well;
+/// 5. reviseTypes — a region's type re-chosen on the points of its neighbors it contests (the
+///    band of a tangent fillet that read as a plane);
+/// 6. refineBoundaries — points that a neighboring segment's primitive explains better move;
+/// 7. joinCreases — free points at creases join the nearest adjacent primitive within tolerance;
+/// 8. recoverSmallFaces — a patch of free points that no adjacent primitive explains is a face too
+///    small to seed (a hole's wall, a narrow fillet): fitted with the edge points it shares;
+/// 9. absorbFragments — a region that a neighbor four times its size explains as well as that
+///    neighbor's own points joins it (specks of one noisy surface that grew apart);
+/// 10. mergeSettledRegions — adjacent regions merge again, now that boundaries and creases have
+///    settled, when one primitive fits their union no worse than the worse of the two;
+/// 11. dropNonSurfaces — regions that fill their tolerance slab like random points, or lie on one
+///     level of a quantized axis, are dropped;
+/// 12. finalize — largest first, every segment refitted on all its members.
+///
+/// Each phase can be run and inspected on its own (regions()), which is how the tests look inside.
+/// The design and its figures: docs/THEORY.md §6.
+
+#include "slipfit/segmentation/region_grower.h"
+#include "slipfit/segmentation/segmentation.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <optional>
+#include <set>
+#include <vector>
+
+namespace slipfit {
+
+class SegmentationKernel {
+ public:
+  /// Checks the inputs (sizes, finite normals, parameters); throws DegenerateInputError or
+  /// InvalidParameterError. The arrays must outlive the kernel.
+  SegmentationKernel(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                     const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                     const Neighborhoods& neighborhoods,
+                     const std::vector<SlippageType>& local_types,
+                     const SegmentationParameters& parameters);
+
+  void estimateScale();
+  void growSlippageSeeds();
+  void growFreeSeeds();
+  void mergeRegions();
+  void reviseTypes();
+  void refineBoundaries();
+  void joinCreases();
+  void recoverSmallFaces();
+  void absorbFragments();
+  void mergeSettledRegions();
+  void dropNonSurfaces();
+  /// Ends the run: the result with its segments largest first.
+  SegmentationResult finalize();
+
+  /// The regions so far (empty member lists are regions dropped or merged away).
+  const std::vector<std::vector<int>>& regions() const { return regions_; }
+  /// Each region's fit so far (that of a region dropped or merged away is stale).
+  const std::vector<FitResult>& fits() const { return fits_; }
+  /// The tolerances and counters so far (segments are filled by finalize()).
+  const SegmentationResult& progress() const { return result_; }
+
+ private:
+  void growRegion(PrimitiveType type, std::vector<int> members, SlippageType seed_type,
+                  bool type_chosen);
+  /// A new region of \a members (their labels set to it).
+  void addRegion(std::vector<int> members, FitResult fit, SlippageType seed_type);
+  void relabelFromRegions();
+  /// Merges adjacent regions, round after round: while the union's best fit has an RMS distance
+  /// at most merge_factor × the larger of the two regions' (two planes at a crease: below both),
+  /// or, \a settled, while unionIsSimpler.
+  void mergeAdjacent(bool settled);
+  /// One primitive of the larger region's type (\a joint) is the better model of regions a and b
+  /// together than each region's own, by the Bayesian information criterion.
+  bool unionIsSimpler(std::size_t a, std::size_t b, const FitResult& joint) const;
+  /// For each live region, the regions its points have among their neighbors.
+  std::vector<std::set<std::size_t>> touchingRegions() const;
+  /// The best fit of regions a and b together, or nullopt when the larger (4 × the other) does
+  /// not hold half of the smaller's points. Reads only.
+  std::optional<FitResult> tryMerge(std::size_t a, std::size_t b) const;
+  void shareEdges();
+  void drop(std::size_t region);
+  /// Angle between point i's normal and \a primitive's at it (unsigned), radians.
+  double normalAngle(int i, const Primitive& primitive) const;
+  /// RMS distance of \a members to \a primitive, each distance scaled by the members' smallest
+  /// tolerance over its own (the RMS distance when all tolerances are equal).
+  double precisionRms(const std::vector<int>& members, const Primitive& primitive) const;
+
+  Eigen::Ref<const Eigen::Matrix3Xd> points_;  // views: the arrays outlive the object
+  Eigen::Ref<const Eigen::Matrix3Xd> normals_;
+  const Neighborhoods& hoods_;
+  const std::vector<SlippageType>& local_types_;
+  SegmentationParameters parameters_;
+  std::size_t n_ = 0;
+
+  SegmentationResult result_;  ///< tolerances, counters and the point labels
+  std::optional<RegionGrower> grower_;
+  std::vector<char> tried_;
+  std::vector<std::vector<int>> regions_;
+  std::vector<FitResult> fits_;
+  std::vector<SlippageType> seed_types_;
+  std::vector<char> alive_;
+  double edge_margin_ = 0.0;  ///< distances within this are a tie (shareEdges), units
+};
+
+}  // namespace slipfit

@@ -1,0 +1,67 @@
+#pragma once
+/// \file What one whole point set is: a primitive (plane, sphere, cylinder, cone, torus), a
+/// kinematic surface without one (revolution, extrusion, helix), or none. The slippage spectrum
+/// proposes (slippage.h: its readings and their axes), the geometry decides: a primitive is the
+/// answer when a fit of it (a) explains the positions — its RMS distance within
+/// kExplainedNoiseRatio × the surface noise measured from the points (surface_noise.h) — and
+/// (b) its own ideal motions slip on the normals, within the spectrum's gap; of the primitives that
+/// do, the simplest adequate one (model_selection.h). When none does, the one-motion reading of
+/// the spectrum is the answer. Positions alone cannot tell a short band of a cylinder from a
+/// sphere at 1 % noise, nor normals alone a vase from a cylinder; together they do. Derivation:
+/// docs/THEORY.md §5.4.
+
+#include "slipfit/slippage/slippage.h"
+#include "slipfit/fitting/weighted_fit.h"
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <vector>
+
+namespace slipfit {
+
+/// A primitive explains the points when its RMS distance is at most this many times the
+/// measured surface noise (plus the rounding floor). For Gaussian noise σ the true surface's RMS
+/// is σ and the noise estimate σ̂ ≈ 0.99 σ; a missed systematic deviation δ raises the RMS to
+/// √(σ² + δ²/2), above 2 σ̂ once δ ≳ 2.4 σ.
+constexpr double kExplainedNoiseRatio = 2.0;
+
+/// One primitive type tried on the whole set.
+struct ShapeCandidate {
+  PrimitiveType type = PrimitiveType::plane;
+  bool fitted = false;  ///< a fit exists (not failed, not in its simpler limit)
+  double rms = 0.0;     ///< RMS point-to-surface distance of the best fit, units
+  /// The largest relative slippage energy of the fit's ideal motions, and the spectrum's bound
+  /// for k motions (k: the type's): √(λ_k λ_{k+1}), each raised to the noise floor. Reported:
+  /// with estimated normals the energy can exceed the bound on a true primitive (scan lines
+  /// leave PCA normals poor across the lines), so the positions decide.
+  double energy = 0.0;
+  double energy_bound = 0.0;
+  bool explains = false;  ///< rms within kExplainedNoiseRatio × noise + floor
+  bool slips = false;     ///< energy ≤ energy_bound
+};
+
+struct ShapeClassification {
+  /// The verdict: type, motion count, axis / point / centre / normal / pitch, and for a primitive
+  /// its refined fit (`primitive`). spectrum and gap are the spectrum's.
+  SlippageResult verdict;
+  std::optional<FitResult> fit;            ///< the verdict's primitive fit
+  double noise = 0.0;                      ///< the measured surface noise σ̂, units
+  double floor = 0.0;                      ///< the rounding floor of the distances, units
+  std::vector<ShapeCandidate> candidates;  ///< one per primitive type, in kPrimitiveTypeNames order
+  /// The spectrum's own reading (what analyzeSlippage reports), for comparison.
+  SlippageResult spectral;
+};
+
+/// Classifies 3 × N points with normals (any sign and length) and weights (zero weight: ignored).
+/// Degenerate input gives verdict.type == degenerate with the reason.
+ShapeClassification classifyShape(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                  const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                  const Eigen::Ref<const Eigen::VectorXd>& weights,
+                                  const SlippageOptions& options = {});
+
+/// Number of rigid motions that slide a primitive of \a type along itself: 3 (plane, sphere), 2
+/// (cylinder), 1 (cone, torus).
+int motionCount(PrimitiveType type);
+
+}  // namespace slipfit

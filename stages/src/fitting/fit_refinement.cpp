@@ -1,0 +1,464 @@
+// Refinement of a primitive on the true weighted geometric loss Σ wᵢ D²(pᵢ, A) by
+// Levenberg–Marquardt (Eigen's unsupported module, exact Jacobian), in coordinates centred on
+// the weighted centroid and scaled to unit RMS radius; plus fitPrimitive and fitAuto.
+#include "slipfit/fitting/weighted_fit.h"
+
+#include "slipfit/core/angle_units.h"
+#include "slipfit/fitting/model_selection.h"
+
+#include <unsupported/Eigen/NonLinearOptimization>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <string>
+#include <type_traits>
+
+namespace slipfit {
+
+namespace {
+
+constexpr double kHalfPi = 0.5 * kPi;
+/// An RMS distance, in the refinement's normalised coordinates (unit RMS radius), at which a fit
+/// is exact to the rounding of double coordinates (10⁴ ε).
+constexpr double kExactRms = 1e-12;
+
+/// A primitive moved into normalised coordinates x' = (x − o)/s, and back.
+Primitive toNormalised(const Primitive& p, const Eigen::Vector3d& o, double s) {
+  return std::visit(
+      [&](auto shape) -> Primitive {
+        using T = decltype(shape);
+        if constexpr (std::is_same_v<T, Plane>) {
+          shape.d = (shape.d - shape.normal.dot(o)) / s;
+        } else if constexpr (std::is_same_v<T, Sphere>) {
+          shape.center = (shape.center - o) / s;
+          shape.radius /= s;
+        } else if constexpr (std::is_same_v<T, Cylinder>) {
+          shape.point = (shape.point - o) / s;
+          shape.radius /= s;
+        } else if constexpr (std::is_same_v<T, Torus>) {
+          shape.center = (shape.center - o) / s;
+          shape.major_radius /= s;
+          shape.minor_radius /= s;
+        } else {
+          shape.apex = (shape.apex - o) / s;
+        }
+        return shape;
+      },
+      p);
+}
+
+Primitive fromNormalised(const Primitive& p, const Eigen::Vector3d& o, double s) {
+  return std::visit(
+      [&](auto shape) -> Primitive {
+        using T = decltype(shape);
+        if constexpr (std::is_same_v<T, Plane>) {
+          shape.d = shape.d * s + shape.normal.dot(o);
+        } else if constexpr (std::is_same_v<T, Sphere>) {
+          shape.center = shape.center * s + o;
+          shape.radius *= s;
+        } else if constexpr (std::is_same_v<T, Cylinder>) {
+          shape.point = shape.point * s + o;
+          shape.radius *= s;
+        } else if constexpr (std::is_same_v<T, Torus>) {
+          shape.center = shape.center * s + o;
+          shape.major_radius *= s;
+          shape.minor_radius *= s;
+        } else {
+          shape.apex = shape.apex * s + o;
+        }
+        return shape;
+      },
+      p);
+}
+
+/// Local parametrization around an initial primitive: directions move in the tangent plane of
+/// their initial value (no pole), lengths and points additively.
+struct Chart {
+  Primitive base;
+  Eigen::Vector3d u = Eigen::Vector3d::UnitX(), v = Eigen::Vector3d::UnitY();
+
+  explicit Chart(const Primitive& initial) : base(initial) {
+    const Eigen::Vector3d dir = std::visit(
+        [](const auto& shape) -> Eigen::Vector3d {
+          using T = std::decay_t<decltype(shape)>;
+          if constexpr (std::is_same_v<T, Plane>)
+            return shape.normal;
+          else if constexpr (std::is_same_v<T, Sphere>)
+            return Eigen::Vector3d::UnitZ();
+          else
+            return shape.axis;
+        },
+        base);
+    u = dir.unitOrthogonal();
+    v = dir.cross(u);
+  }
+  int size() const {
+    static constexpr int kSizes[] = {3, 4, 5, 6, 7};
+    return kSizes[base.index()];
+  }
+  Eigen::Vector3d turn(const Eigen::Vector3d& dir, double a, double b) const {
+    return (dir + a * u + b * v).normalized();
+  }
+  Primitive decode(const Eigen::VectorXd& x) const {
+    return std::visit(
+        [&](auto shape) -> Primitive {
+          using T = decltype(shape);
+          if constexpr (std::is_same_v<T, Plane>) {
+            shape.normal = turn(shape.normal, x[0], x[1]);
+            shape.d += x[2];
+          } else if constexpr (std::is_same_v<T, Sphere>) {
+            shape.center += x.head<3>();
+            shape.radius += x[3];
+          } else if constexpr (std::is_same_v<T, Cylinder>) {
+            shape.axis = turn(shape.axis, x[0], x[1]);
+            shape.point += x[2] * u + x[3] * v;
+            shape.radius += x[4];
+          } else if constexpr (std::is_same_v<T, Torus>) {
+            shape.axis = turn(shape.axis, x[0], x[1]);
+            shape.center += x.segment<3>(2);
+            shape.major_radius += x[5];
+            shape.minor_radius += x[6];
+          } else {
+            shape.apex += x.head<3>();
+            shape.axis = turn(shape.axis, x[3], x[4]);
+            shape.half_angle += x[5];
+          }
+          return shape;
+        },
+        base);
+  }
+};
+
+/// Derivatives of a direction turned by the chart, dir(a, b) = (d + a u + b v)/‖·‖, with respect
+/// to a and b (columns), at the chart's current (a, b).
+Eigen::Matrix<double, 3, 2> turnDerivative(const Chart& chart, const Eigen::Vector3d& dir, double a,
+                                           double b) {
+  const Eigen::Vector3d m = dir + a * chart.u + b * chart.v;
+  const double length = m.norm();
+  const Eigen::Vector3d unit = m / length;
+  Eigen::Matrix<double, 3, 2> d;
+  d.col(0) = (chart.u - unit * unit.dot(chart.u)) / length;
+  d.col(1) = (chart.v - unit * unit.dot(chart.v)) / length;
+  return d;
+}
+
+/// \a w / ‖w‖, or zero for a zero \a w (a subgradient where the distance has a kink).
+Eigen::Vector3d unitOrZero(const Eigen::Vector3d& w) {
+  const double length = w.norm();
+  return length > 0.0 ? Eigen::Vector3d(w / length) : Eigen::Vector3d::Zero();
+}
+
+/// The component of \a w off the unit \a axis, as its length and unit direction (zero on the
+/// axis, where the distance is not differentiable and any subgradient will do).
+double offAxis(const Eigen::Vector3d& w, const Eigen::Vector3d& axis, double h,
+               Eigen::Vector3d* unit) {
+  const Eigen::Vector3d q = w - h * axis;
+  const double rho = q.norm();
+  *unit = rho > 0.0 ? Eigen::Vector3d(q / rho) : Eigen::Vector3d::Zero();
+  return rho;
+}
+
+/// The residuals √wᵢ · signedDistance(pᵢ, chart.decode(x)) and their exact Jacobian (one pass over
+/// the points instead of the chart's size + 1 of a numerical one).
+struct Residuals {
+  using Scalar = double;
+  enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
+  using InputType = Eigen::VectorXd;
+  using ValueType = Eigen::VectorXd;
+  using JacobianType = Eigen::MatrixXd;
+
+  const Chart* chart;
+  const Eigen::Matrix3Xd* points;  // normalised, positive weights only
+  const Eigen::VectorXd* sqrt_w;
+  int inputs() const { return chart->size(); }
+  int values() const { return static_cast<int>(points->cols()); }
+  int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
+    signedDistances(*points, chart->decode(x), f);
+    f.array() *= sqrt_w->array();
+    return 0;
+  }
+  int df(const Eigen::VectorXd& x, Eigen::MatrixXd& jac) const {
+    const Primitive shape = chart->decode(x);
+    const Eigen::Index n = points->cols();
+    std::visit(
+        [&](const auto& s) {
+          using T = std::decay_t<decltype(s)>;
+          if constexpr (std::is_same_v<T, Plane>) {
+            const auto turn =
+                turnDerivative(*chart, std::get<Plane>(chart->base).normal, x[0], x[1]);
+            for (Eigen::Index i = 0; i < n; ++i) {
+              jac.row(i).head<2>() = points->col(i).transpose() * turn;
+              jac(i, 2) = -1.0;
+            }
+          } else if constexpr (std::is_same_v<T, Sphere>) {
+            for (Eigen::Index i = 0; i < n; ++i) {
+              jac.row(i).head<3>() = -unitOrZero(points->col(i) - s.center).transpose();
+              jac(i, 3) = -1.0;
+            }
+          } else if constexpr (std::is_same_v<T, Cylinder>) {
+            const auto turn =
+                turnDerivative(*chart, std::get<Cylinder>(chart->base).axis, x[0], x[1]);
+            for (Eigen::Index i = 0; i < n; ++i) {
+              const Eigen::Vector3d w = points->col(i) - s.point;
+              const double h = w.dot(s.axis);
+              Eigen::Vector3d q;
+              offAxis(w, s.axis, h, &q);
+              jac.row(i).head<2>() = (-h * q).transpose() * turn;
+              jac(i, 2) = -q.dot(chart->u);
+              jac(i, 3) = -q.dot(chart->v);
+              jac(i, 4) = -1.0;
+            }
+          } else if constexpr (std::is_same_v<T, Cone>) {
+            const auto turn = turnDerivative(*chart, std::get<Cone>(chart->base).axis, x[3], x[4]);
+            const double c = std::cos(s.half_angle), sn = std::sin(s.half_angle);
+            for (Eigen::Index i = 0; i < n; ++i) {
+              const Eigen::Vector3d w = points->col(i) - s.apex;
+              const double h = w.dot(s.axis);
+              Eigen::Vector3d q;
+              const double rho = offAxis(w, s.axis, h, &q);
+              if (h * c + rho * sn < 0.0) {  // the apex is nearest: f = ‖w‖
+                jac.row(i).head<3>() = -unitOrZero(w).transpose();
+                jac.row(i).tail<3>().setZero();
+                continue;
+              }
+              jac.row(i).head<3>() = (-c * q + sn * s.axis).transpose();
+              jac.row(i).segment<2>(3) = (-(c * h) * q - sn * w).transpose() * turn;
+              jac(i, 5) = -rho * sn - h * c;
+            }
+          } else {
+            const auto turn = turnDerivative(*chart, std::get<Torus>(chart->base).axis, x[0], x[1]);
+            for (Eigen::Index i = 0; i < n; ++i) {
+              const Eigen::Vector3d w = points->col(i) - s.center;
+              const double z = w.dot(s.axis);
+              Eigen::Vector3d q;
+              const double e = offAxis(w, s.axis, z, &q) - s.major_radius;
+              const double length = std::sqrt(e * e + z * z);
+              // ∂f/∂ρ = e/D and ∂f/∂z = z/D, D the distance to the circle of tube centres.
+              const double fr = length > 0.0 ? e / length : 0.0;
+              const double fz = length > 0.0 ? z / length : 0.0;
+              jac.row(i).head<2>() = (-(fr * z) * q + fz * w).transpose() * turn;
+              jac.row(i).segment<3>(2) = (-fr * q - fz * s.axis).transpose();
+              jac(i, 5) = -fr;
+              jac(i, 6) = -1.0;
+            }
+          }
+        },
+        shape);
+    jac.array().colwise() *= sqrt_w->array();
+    return 0;
+  }
+};
+
+/// Canonical form: unit directions, positive radii, the cylinder's point at the foot of the
+/// perpendicular from the weighted centroid, the cone's half angle in (0, π/2).
+Primitive canonical(Primitive p, const Eigen::Vector3d& centroid) {
+  if (auto* c = std::get_if<Cylinder>(&p)) {
+    c->axis.normalize();
+    c->radius = std::abs(c->radius);
+    c->point += c->axis.dot(centroid - c->point) * c->axis;
+  } else if (auto* k = std::get_if<Cone>(&p)) {
+    k->axis.normalize();
+  } else if (auto* t = std::get_if<Torus>(&p)) {
+    t->axis.normalize();
+    t->minor_radius = std::abs(t->minor_radius);
+  } else if (auto* s = std::get_if<Sphere>(&p)) {
+    s->radius = std::abs(s->radius);
+  } else if (auto* pl = std::get_if<Plane>(&p)) {
+    const double n = pl->normal.norm();
+    pl->normal /= n;
+    pl->d /= n;
+  }
+  return p;
+}
+
+bool valid(const Primitive& p) {
+  if (!allFinite(p))
+    return false;
+  return std::visit(
+      [](const auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, Sphere> || std::is_same_v<T, Cylinder>)
+          return s.radius > 0.0;
+        else if constexpr (std::is_same_v<T, Torus>)
+          return s.major_radius > 0.0 && s.minor_radius > 0.0;
+        else if constexpr (std::is_same_v<T, Cone>)
+          return s.half_angle > 0.0 && s.half_angle < kHalfPi;
+        else
+          return true;
+      },
+      p);
+}
+
+}  // namespace
+
+Primitive refinePrimitive(const Primitive& initial,
+                          const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                          const Eigen::Ref<const Eigen::VectorXd>& weights, int max_iterations,
+                          int* iterations) {
+  if (iterations)
+    *iterations = 0;
+  // Normalise: centre on the weighted centroid, scale to unit weighted RMS radius.
+  double w = 0.0;
+  Eigen::Vector3d o = Eigen::Vector3d::Zero();
+  Eigen::Index used = 0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0) {
+      w += weights[i];
+      o += weights[i] * points.col(i);
+      ++used;
+    }
+  if (!(w > 0.0))
+    return initial;
+  o /= w;
+  double s2 = 0.0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0)
+      s2 += weights[i] * (points.col(i) - o).squaredNorm();
+  const double s = std::sqrt(s2 / w);
+  if (!(s > 0.0))
+    return initial;
+  Eigen::Matrix3Xd q(3, used);
+  Eigen::VectorXd sw(used);
+  for (Eigen::Index i = 0, j = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0) {
+      q.col(j) = (points.col(i) - o) / s;
+      sw[j++] = std::sqrt(weights[i]);
+    }
+  const Chart chart(toNormalised(initial, o, s));
+  if (used < chart.size())
+    return initial;
+
+  Residuals f{&chart, &q, &sw};
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(chart.size());
+  Eigen::VectorXd start(used);
+  f(x, start);
+  // Already exact to the rounding of double coordinates: nothing left to minimise. (Steps there
+  // are driven by rounding and, where the data fix a parameter only to second order — the axis of
+  // a thin ring of a cylinder — wander by √ε ≈ 1e-8.)
+  if (start.squaredNorm() <= kExactRms * kExactRms * sw.squaredNorm())
+    return initial;
+  Eigen::LevenbergMarquardt<Residuals> lm(f);
+  lm.parameters.maxfev = max_iterations;
+  lm.parameters.xtol = 1e-14;
+  lm.parameters.ftol = 1e-14;
+  lm.minimize(x);
+  if (iterations)
+    *iterations = static_cast<int>(lm.iter);
+  const Primitive refined = canonical(fromNormalised(chart.decode(x), o, s), o);
+  if (!valid(refined))
+    return initial;
+  // Never worse than the start (LM could stop anywhere on a flat or non-smooth loss).
+  return weightedLoss(points, weights, refined) <= weightedLoss(points, weights, initial) ? refined
+                                                                                          : initial;
+}
+
+FitResult fitPrimitive(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                       const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                       const Eigen::Ref<const Eigen::VectorXd>& weights,
+                       const FitOptions& options) {
+  options.validate();
+  FitResult r;
+  switch (type) {
+    case PrimitiveType::plane:
+      r = estimatePlane(points, weights, options);
+      break;
+    case PrimitiveType::sphere:
+      r = estimateSphere(points, weights, options);
+      break;
+    case PrimitiveType::cylinder:
+      r = estimateCylinder(points, normals, weights, options);
+      break;
+    case PrimitiveType::cone:
+      r = estimateCone(points, normals, weights, options);
+      break;
+    case PrimitiveType::torus:
+      r = estimateTorus(points, normals, weights, options);
+      break;
+  }
+  if (!r.ok())
+    return r;
+  r.loss_algebraic = r.loss_refined = weightedLoss(points, weights, r.algebraic);
+  if (options.refine) {
+    r.refined =
+        refinePrimitive(r.algebraic, points, weights, options.max_iterations, &r.iterations);
+    r.loss_refined = weightedLoss(points, weights, r.refined);
+  }
+  double w = 0.0;
+  r.max_distance = 0.0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0) {
+      w += weights[i];
+      r.max_distance = std::max(r.max_distance, distance(points.col(i), r.refined));
+    }
+  r.rms_distance = std::sqrt(r.loss_refined / w);
+  // Finite inputs can still overflow (coordinates or weights near the double range): never
+  // report success with a NaN or inf.
+  if (!allFinite(r.algebraic) || !allFinite(r.refined) || !std::isfinite(r.rms_distance) ||
+      !std::isfinite(r.max_distance)) {
+    FitResult failed;
+    failed.type = type;
+    failed.status = FitStatus::degenerate;
+    failed.reason = std::string(primitiveTypeName(type)) +
+                    " fit: the result overflowed (coordinates or weights too large)";
+    return failed;
+  }
+  return r;
+}
+
+FitResult fitAuto(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                  const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                  const Eigen::Ref<const Eigen::VectorXd>& weights, const FitOptions& options) {
+  // The floor of adequacy: distances below the rounding of the coordinates carry no
+  // information (1e-7 of the data's distance from the origin and of its size: float input).
+  double w = 0.0, size2 = 0.0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0 && points.col(i).allFinite()) {
+      w += weights[i];
+      centroid += weights[i] * points.col(i);
+    }
+  if (w > 0.0) {
+    centroid /= w;
+    for (Eigen::Index i = 0; i < points.cols(); ++i)
+      if (weights[i] > 0.0 && points.col(i).allFinite())
+        size2 += weights[i] * (points.col(i) - centroid).squaredNorm();
+    size2 /= w;
+  }
+  const double floor = 1e-7 * (std::sqrt(size2) + centroid.norm());
+
+  std::vector<FitResult> fits;
+  std::vector<ModelCandidate> candidates;
+  std::string reasons;
+  for (const auto& [type, name] : kPrimitiveTypeNames) {
+    if (type != PrimitiveType::plane && type != PrimitiveType::sphere &&
+        normals.cols() != points.cols()) {
+      reasons += (reasons.empty() ? "" : "; ") + std::string(name) + " fit: no normals";
+      continue;
+    }
+    FitResult r = fitPrimitive(type, points, normals, weights, options);
+    if (!r.ok()) {
+      reasons += (reasons.empty() ? "" : "; ") + r.reason;
+      continue;
+    }
+    if (isNearlyDegenerate(r.refined, points)) {
+      reasons += (reasons.empty() ? "" : "; ") + std::string(name) +
+                 " fit: in its simpler limit (radius beyond 50 times the points' spread)";
+      continue;
+    }
+    candidates.push_back({type, r.rms_distance});
+    fits.push_back(std::move(r));
+  }
+  const std::optional<std::size_t> chosen = selectSimplest(candidates, floor);
+  if (!chosen) {
+    FitResult failed;
+    failed.status = FitStatus::degenerate;
+    failed.reason = "no primitive type fits: " + reasons;
+    return failed;
+  }
+  return std::move(fits[*chosen]);
+}
+
+}  // namespace slipfit

@@ -1,0 +1,135 @@
+#include "slipfit/render/splat_renderer.h"
+
+#include "slipfit/core/angle_units.h"
+#include "slipfit/core/exceptions.h"
+#include "slipfit/core/median.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace slipfit {
+
+void RenderParameters::validate() const {
+  validateDeclared(*this, "render");
+  if (!(field_of_view > 0.0 && field_of_view < kPi))
+    throw InvalidParameterError("render: field_of_view must be in (0, 180) degrees");
+  if (!(view_direction.allFinite() && view_direction.norm() > 0.0))
+    throw InvalidParameterError("render: view_direction must be a non-zero vector");
+  if (!(up.allFinite() && up.norm() > 0.0))
+    throw InvalidParameterError("render: up must be a non-zero vector");
+  if ((eye && !eye->allFinite()) || (target && !target->allFinite()))
+    throw InvalidParameterError("render: eye and target must be finite");
+  if (splat_radius && !(*splat_radius > 0.0 && *splat_radius <= 64.0))
+    throw InvalidParameterError("render: splat_radius must be in (0, 64] pixels");
+}
+
+void useSensorCamera(RenderParameters& parameters, const Eigen::Vector3d& origin,
+                     const Eigen::Quaterniond& orientation,
+                     const Eigen::Ref<const Eigen::Matrix3Xf>& points) {
+  const Eigen::Matrix3d r = orientation.normalized().toRotationMatrix();
+  const Eigen::Vector3d axis = r.col(2);
+  std::vector<double> depth;
+  depth.reserve(static_cast<std::size_t>(points.cols()));
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    const double z = (points.col(i).cast<double>() - origin).dot(axis);
+    if (std::isfinite(z) && z > 0.0)
+      depth.push_back(z);
+  }
+  double median = 1.0;
+  if (!depth.empty())
+    median = medianInPlace(depth);
+  parameters.eye = origin;
+  parameters.target = origin + median * axis;
+  parameters.up = -r.col(1);
+}
+
+std::vector<std::uint8_t> renderSplats(
+    const Eigen::Ref<const Eigen::Matrix3Xf>& points,
+    const Eigen::Ref<const Eigen::Matrix<std::uint8_t, 3, Eigen::Dynamic>>& colors,
+    const Eigen::Ref<const Eigen::Matrix3Xf>& normals, const RenderParameters& parameters) {
+  parameters.validate();
+  if (colors.cols() != points.cols() || (normals.cols() != 0 && normals.cols() != points.cols()))
+    throw DegenerateInputError("render: points, colours and normals differ in number");
+  const int w = parameters.width, h = parameters.height;
+  std::vector<std::uint8_t> image(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
+  for (std::size_t i = 0; i < image.size(); ++i)
+    image[i] = parameters.background[i % 3];
+
+  Eigen::AlignedBox3d box;
+  std::size_t finite = 0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (points.col(i).allFinite()) {
+      box.extend(points.col(i).cast<double>());
+      ++finite;
+    }
+  if (finite == 0)
+    return image;
+  const Eigen::Vector3d target = parameters.target.value_or(box.center());
+  const double tan_half = std::tan(parameters.field_of_view / 2);
+  const double aspect = static_cast<double>(w) / h;
+  const double radius = std::max(box.diagonal().norm() / 2, 1e-12);
+  // The bounding sphere, shrunk by a fifth (scenes are flatter than their sphere), fits the
+  // narrower field of view.
+  const double distance = 0.8 * radius / std::sin(std::atan(tan_half * std::min(1.0, aspect)));
+  const Eigen::Vector3d eye =
+      parameters.eye.value_or(target + distance * parameters.view_direction.normalized());
+  const Eigen::Vector3d forward = (target - eye).normalized();
+  Eigen::Vector3d right = forward.cross(parameters.up);
+  if (right.norm() < 1e-9)
+    right = forward.unitOrthogonal();
+  right.normalize();
+  const Eigen::Vector3d up = right.cross(forward);
+  const double focal = h / (2 * tan_half);  // pixels
+
+  // Splat radius: the spacing of the points as they would cover the box's projected area.
+  const double depth = (box.center() - eye).norm();
+  const double projected_area = kPi * std::pow(focal * radius / depth, 2);
+  const double r = parameters.splat_radius.value_or(
+      std::clamp(1.1 * std::sqrt(projected_area / static_cast<double>(finite)), 1.0, 8.0));
+  const int ri = static_cast<int>(std::ceil(r));
+
+  std::vector<float> zbuf(static_cast<std::size_t>(w) * static_cast<std::size_t>(h),
+                          std::numeric_limits<float>::infinity());
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    if (!points.col(i).allFinite())
+      continue;
+    const Eigen::Vector3d d = points.col(i).cast<double>() - eye;
+    const double z = d.dot(forward);
+    if (z <= 1e-9 * depth)
+      continue;
+    const double u = w / 2.0 + focal * d.dot(right) / z;
+    const double v = h / 2.0 - focal * d.dot(up) / z;
+    double shade = 1.0;
+    if (normals.cols() != 0 && normals.col(i).allFinite() && normals.col(i).norm() > 0)
+      shade =
+          0.35 + 0.65 * std::abs(normals.col(i).cast<double>().normalized().dot(d.normalized()));
+    std::uint8_t rgb[3];
+    for (int c = 0; c < 3; ++c)
+      rgb[c] = static_cast<std::uint8_t>(std::lround(colors(c, i) * shade));
+    const int cu = static_cast<int>(std::floor(u)), cv = static_cast<int>(std::floor(v));
+    for (int y = cv - ri; y <= cv + ri; ++y) {
+      if (y < 0 || y >= h)
+        continue;
+      for (int x = cu - ri; x <= cu + ri; ++x) {
+        if (x < 0 || x >= w)
+          continue;
+        const double dx = x + 0.5 - u, dy = y + 0.5 - v;
+        if (dx * dx + dy * dy > r * r)
+          continue;
+        const std::size_t px =
+            static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+        if (z >= zbuf[px])
+          continue;
+        zbuf[px] = static_cast<float>(z);
+        std::copy(rgb, rgb + 3, image.begin() + static_cast<std::ptrdiff_t>(3 * px));
+      }
+    }
+  }
+  return image;
+}
+
+}  // namespace slipfit

@@ -1,0 +1,37 @@
+#include "slipfit/segmentation/segmentation.h"
+
+#include "slipfit/core/exceptions.h"
+#include "slipfit/segmentation/segmentation_kernel.h"
+
+#include <cmath>
+
+namespace slipfit {
+
+void SegmentationParameters::validate() const {
+  validateDeclared(*this, "segmentation");
+  if (threads < 0)
+    throw InvalidParameterError("segmentation: threads must be 0 (all cores) or positive, got " +
+                                std::to_string(threads));
+}
+
+SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                     const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                     const Neighborhoods& hoods,
+                                     const std::vector<SlippageType>& local_types,
+                                     const SegmentationParameters& parameters) {
+  SegmentationKernel kernel(points, normals, hoods, local_types, parameters);
+  kernel.estimateScale();
+  kernel.growSlippageSeeds();
+  kernel.growFreeSeeds();
+  kernel.mergeRegions();
+  kernel.reviseTypes();
+  kernel.refineBoundaries();
+  kernel.joinCreases();
+  kernel.recoverSmallFaces();
+  kernel.absorbFragments();
+  kernel.mergeSettledRegions();
+  kernel.dropNonSurfaces();
+  return kernel.finalize();
+}
+
+}  // namespace slipfit
