@@ -7,6 +7,7 @@
 // TRUTH.ply carries the field truth_label; RESULT_DIR holds segments.ply (fields label and
 // primitive) and primitives.yaml — slipfit's segmentation stage and bench/cgal_ransac both write
 // them. Prints one line of key=value pairs.
+#include "slipfit/core/angle_units.h"
 #include "slipfit/sampling/scene_sampler.h"
 #include "slipfit/segmentation/segmentation_metrics.h"
 
@@ -22,7 +23,7 @@
 
 namespace {
 
-constexpr double kDegree = 3.14159265358979323846 / 180.0;
+using slipfit::kDegree;
 
 /// An integer per-point field of a PLY, read through PCL directly: outputs may carry NaN normals
 /// for points that were not analysed, which slipfit's own reader rejects.

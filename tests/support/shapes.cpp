@@ -1,5 +1,7 @@
 #include "shapes.h"
 
+#include "slipfit/core/angle_units.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -8,7 +10,6 @@
 namespace slipfit::testing {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 pcl::PointNormal make(const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
   pcl::PointNormal q;

@@ -1,7 +1,8 @@
 #include "varied_shapes.h"
 
-#include "slipfit/sampling/motion_surface_sampler.h"
+#include "slipfit/core/angle_units.h"
 #include "slipfit/neighborhoods/normal_estimation.h"
+#include "slipfit/sampling/motion_surface_sampler.h"
 #include "slipfit/sampling/primitive_sampler.h"
 
 #include <pcl/point_cloud.h>
@@ -17,7 +18,6 @@ namespace slipfit::testing {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 constexpr Eigen::Index kPoints = 4000;
 

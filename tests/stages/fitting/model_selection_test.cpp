@@ -2,8 +2,9 @@
 // (a plane is a cylinder of infinite radius and a cone of 90°; a cylinder is a cone of 0° and a
 // torus of infinite R) with the margins derived in docs/THEORY.md §4.4.
 #include "slipfit/fitting/model_selection.h"
-#include "slipfit/sampling/primitive_sampler.h"
+#include "slipfit/core/angle_units.h"
 #include "slipfit/fitting/weighted_fit.h"
+#include "slipfit/sampling/primitive_sampler.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +14,6 @@
 namespace slipfit {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 TEST(SelectSimplest, FewestParametersAmongTheAdequate) {

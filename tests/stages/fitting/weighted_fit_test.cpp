@@ -1,6 +1,7 @@
 // CGAL-style checks of the weighted estimators: random primitives in random poses, recovered
 // against the generating parameters with tolerances from the noise level.
 #include "slipfit/fitting/weighted_fit.h"
+#include "slipfit/core/angle_units.h"
 #include "slipfit/sampling/primitive_sampler.h"
 
 #include <gtest/gtest.h>
@@ -13,7 +14,6 @@
 namespace slipfit {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 /// A random primitive of \a type, size ~ \a size, placed within \a offset of the origin.

@@ -1,4 +1,5 @@
 #include "slipfit/sampling/torus_sampler.h"
+#include "slipfit/core/angle_units.h"
 
 #include "slipfit/core/exceptions.h"
 
@@ -8,8 +9,6 @@
 
 namespace slipfit {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 TorusSamplingParameters posed() {
   TorusSamplingParameters p;

@@ -5,6 +5,7 @@
 
 #include "segment_cloud.h"
 
+#include "slipfit/core/angle_units.h"
 #include "slipfit/sampling/primitive_sampler.h"
 #include "slipfit/segmentation/segmentation_metrics.h"
 
@@ -18,8 +19,6 @@
 
 namespace slipfit {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct Piece {
   PrimitiveSamplingParameters sampling;

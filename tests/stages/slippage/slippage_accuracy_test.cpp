@@ -4,6 +4,7 @@
 // verdict (classifyShape). Prints the confusion matrix of each.
 #include "varied_shapes.h"
 
+#include "slipfit/core/angle_units.h"
 #include "slipfit/sampling/primitive_sampler.h"
 #include "slipfit/slippage/shape_classification.h"
 #include "slipfit/slippage/slippage.h"
@@ -21,7 +22,6 @@
 namespace slipfit {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 struct Trial {

@@ -1,4 +1,5 @@
 #include "slipfit/slippage/slippage.h"
+#include "slipfit/core/angle_units.h"
 
 #include "expect_refused.h"
 #include "slipfit/core/exceptions.h"
@@ -29,7 +30,6 @@ TEST(SlippageOptions, ValidateNamesTheFieldOutOfItsRange) {
   EXPECT_THROW(analyzeSlippage(p, n, Eigen::VectorXd::Ones(20), o), InvalidParameterError);
 }
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 struct Cloud3 {

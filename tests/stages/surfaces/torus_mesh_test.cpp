@@ -1,4 +1,5 @@
 #include "slipfit/surfaces/torus_mesh.h"
+#include "slipfit/core/angle_units.h"
 
 #include "slipfit/core/exceptions.h"
 
@@ -10,7 +11,6 @@
 namespace slipfit {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const TorusShape kTorus{2.0, 0.7};
 
 Eigen::Vector3d eig(const OpenMesh::Vec3d& v) {
