@@ -4,6 +4,7 @@
 //   build/bench/bench_normals --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 //
 // bench/run_normals.sh runs each case in its own process to report peak memory as well.
+#include "pcl_normals_peer.h"
 #include "shapes.h"
 
 #include "slipfit/neighborhoods/neighborhood_selection.h"
@@ -12,7 +13,6 @@
 #include "slipfit/pipeline/registry.h"
 
 #include <benchmark/benchmark.h>
-#include <pcl/features/normal_3d_omp.h>
 #include <pcl/search/kdtree.h>
 #include <yaml-cpp/yaml.h>
 
@@ -33,16 +33,9 @@ const Cloud::ConstPtr& scene() {
 }
 
 void BM_PclNormalEstimationOMP(benchmark::State& state) {
-  for (auto _ : state) {
-    pcl::NormalEstimationOMP<pcl::PointNormal, pcl::Normal> ne(kThreads);
-    ne.setInputCloud(scene());
-    ne.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointNormal>>(false));
-    ne.setKSearch(kK);
-    pcl::PointCloud<pcl::Normal> out;
-    ne.compute(out);
-    benchmark::DoNotOptimize(out.data());
-  }
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(scene()->size()));
+  slipfit::bench::timePclNormals(state, scene(), kK, kThreads, [] {
+    return std::make_shared<pcl::search::KdTree<pcl::PointNormal>>(false);
+  });
 }
 
 void BM_SlipfitNormalEstimation(benchmark::State& state) {

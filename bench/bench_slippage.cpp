@@ -4,6 +4,7 @@
 // Also the whole-cloud spectrum at 10^4..10^6 points (linear in N), and the whole-cloud verdict
 // (classifyShape: the spectrum, the surface noise and a refined fit of every type) at 10^4 and
 // 10^5 points.
+#include "pcl_normals_peer.h"
 #include "shapes.h"
 
 #include "slipfit/slippage/local_slippage.h"
@@ -13,7 +14,6 @@
 #include "slipfit/slippage/slippage.h"
 
 #include <benchmark/benchmark.h>
-#include <pcl/features/normal_3d_omp.h>
 #include <pcl/search/kdtree.h>
 
 namespace {
@@ -64,29 +64,15 @@ void BM_LocalSlippage(benchmark::State& state) {
 
 void BM_PclNormalsSharedNeighborhoods(benchmark::State& state) {
   hoods();
-  for (auto _ : state) {
-    pcl::NormalEstimationOMP<pcl::PointNormal, pcl::Normal> ne(kThreads);
-    ne.setInputCloud(scene());
-    ne.setSearchMethod(std::make_shared<slipfit::PrecomputedSearch<pcl::PointNormal>>(hoods()));
-    ne.setKSearch(kK);
-    pcl::PointCloud<pcl::Normal> out;
-    ne.compute(out);
-    benchmark::DoNotOptimize(out.data());
-  }
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(scene()->size()));
+  slipfit::bench::timePclNormals(state, scene(), kK, kThreads, [] {
+    return std::make_shared<slipfit::PrecomputedSearch<pcl::PointNormal>>(hoods());
+  });
 }
 
 void BM_PclNormalsOwnSearch(benchmark::State& state) {
-  for (auto _ : state) {
-    pcl::NormalEstimationOMP<pcl::PointNormal, pcl::Normal> ne(kThreads);
-    ne.setInputCloud(scene());
-    ne.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointNormal>>(false));
-    ne.setKSearch(kK);
-    pcl::PointCloud<pcl::Normal> out;
-    ne.compute(out);
-    benchmark::DoNotOptimize(out.data());
-  }
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(scene()->size()));
+  slipfit::bench::timePclNormals(state, scene(), kK, kThreads, [] {
+    return std::make_shared<pcl::search::KdTree<pcl::PointNormal>>(false);
+  });
 }
 
 void BM_WholeCloudSlippage(benchmark::State& state) {
