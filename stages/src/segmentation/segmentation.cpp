@@ -20,17 +20,8 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
                                      const std::vector<SlippageType>& local_types,
                                      const SegmentationParameters& parameters) {
   SegmentationKernel kernel(points, normals, hoods, local_types, parameters);
-  kernel.estimateScale();
-  kernel.growSlippageSeeds();
-  kernel.growFreeSeeds();
-  kernel.mergeRegions();
-  kernel.reviseTypes();
-  kernel.refineBoundaries();
-  kernel.joinCreases();
-  kernel.recoverSmallFaces();
-  kernel.absorbFragments();
-  kernel.mergeSettledRegions();
-  kernel.dropNonSurfaces();
+  using Phase = SegmentationKernel::Phase;
+  kernel.runPhases(Phase::estimate_scale, Phase::drop_non_surfaces);
   return kernel.finalize();
 }
 

@@ -1,8 +1,8 @@
 #include "slipfit/segmentation/segmentation_kernel.h"
 
-#include "slipfit/neighborhoods/depth_quantization.h"
 #include "slipfit/core/exceptions.h"
 #include "slipfit/fitting/model_selection.h"
+#include "slipfit/neighborhoods/depth_quantization.h"
 
 #include <omp.h>
 #include <Eigen/Eigenvalues>
@@ -1167,6 +1167,41 @@ SegmentationResult SegmentationKernel::finalize() {
   seed_types_.clear();
   alive_.clear();
   return result;
+}
+
+void SegmentationKernel::run(Phase phase) {
+  switch (phase) {
+    case Phase::estimate_scale:
+      return estimateScale();
+    case Phase::grow_slippage_seeds:
+      return growSlippageSeeds();
+    case Phase::grow_free_seeds:
+      return growFreeSeeds();
+    case Phase::merge_regions:
+      return mergeRegions();
+    case Phase::revise_types:
+      return reviseTypes();
+    case Phase::refine_boundaries:
+      return refineBoundaries();
+    case Phase::join_creases:
+      return joinCreases();
+    case Phase::recover_small_faces:
+      return recoverSmallFaces();
+    case Phase::absorb_fragments:
+      return absorbFragments();
+    case Phase::merge_settled_regions:
+      return mergeSettledRegions();
+    case Phase::drop_non_surfaces:
+      return dropNonSurfaces();
+  }
+}
+
+void SegmentationKernel::runPhases(Phase first, Phase last, std::initializer_list<Phase> skip) {
+  for (int k = static_cast<int>(first); k <= static_cast<int>(last); ++k) {
+    const auto phase = static_cast<Phase>(k);
+    if (std::find(skip.begin(), skip.end(), phase) == skip.end())
+      run(phase);
+  }
 }
 
 }  // namespace slipfit

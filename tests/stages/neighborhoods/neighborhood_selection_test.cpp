@@ -36,6 +36,19 @@ std::vector<std::pair<float, int>> bruteForce(const Cloud& c, std::size_t i) {
   return all;
 }
 
+/// How many of the sorted (squared distance, index) pairs lie within \a radius.
+std::size_t countWithin(const std::vector<std::pair<float, int>>& truth, float radius) {
+  return static_cast<std::size_t>(std::count_if(
+      truth.begin(), truth.end(), [&](const auto& t) { return t.first <= radius * radius; }));
+}
+
+NeighborhoodParameters withRadius(NeighborhoodMode mode, double radius) {
+  NeighborhoodParameters p;
+  p.mode = mode;
+  p.radius = radius;
+  return p;
+}
+
 Neighborhoods select(const Cloud::Ptr& cloud, const NeighborhoodParameters& p) {
   NeighborhoodSelection<pcl::PointXYZ> s;
   s.setParameters(p);
@@ -65,31 +78,21 @@ TEST(NeighborhoodSelection, KnnMatchesBruteForce) {
 
 TEST(NeighborhoodSelection, RadiusIsExactlyTheBall) {
   const auto cloud = randomCloud(400, 2);
-  NeighborhoodParameters p;
-  p.mode = NeighborhoodMode::radius;
-  p.radius = 0.3;
-  const Neighborhoods h = select(cloud, p);
+  const Neighborhoods h = select(cloud, withRadius(NeighborhoodMode::radius, 0.3));
   for (std::size_t i = 0; i < cloud->size(); ++i) {
-    const auto truth = bruteForce(*cloud, i);
-    const auto inside =
-        std::count_if(truth.begin(), truth.end(), [](const auto& t) { return t.first <= 0.09f; });
-    EXPECT_EQ(static_cast<long>(h[i].size()), inside) << "point " << i;
+    EXPECT_EQ(h[i].size(), countWithin(bruteForce(*cloud, i), 0.3f)) << "point " << i;
     EXPECT_LE(h.radius(i), 0.3f + 1e-6f);
   }
 }
 
 TEST(NeighborhoodSelection, RadiusWithCapKeepsTheNearest) {
   const auto cloud = randomCloud(400, 3);
-  NeighborhoodParameters p;
-  p.mode = NeighborhoodMode::radius;
-  p.radius = 0.5;
+  NeighborhoodParameters p = withRadius(NeighborhoodMode::radius, 0.5);
   p.max_neighbors = 5;
   const Neighborhoods h = select(cloud, p);
   for (std::size_t i = 0; i < cloud->size(); ++i) {
     const auto truth = bruteForce(*cloud, i);
-    const auto inside = static_cast<std::size_t>(
-        std::count_if(truth.begin(), truth.end(), [](const auto& t) { return t.first <= 0.25f; }));
-    ASSERT_EQ(h[i].size(), std::min<std::size_t>(5, inside));
+    ASSERT_EQ(h[i].size(), std::min<std::size_t>(5, countWithin(truth, 0.5f)));
     const std::size_t last = h[i].size() - 1;
     EXPECT_NEAR(h[i].sqr_distances[last], truth[last].first, 1e-6f);
   }
@@ -97,17 +100,12 @@ TEST(NeighborhoodSelection, RadiusWithCapKeepsTheNearest) {
 
 TEST(NeighborhoodSelection, HybridIsKnnCappedByRadius) {
   const auto cloud = randomCloud(300, 4);
-  NeighborhoodParameters p;
-  p.mode = NeighborhoodMode::hybrid;
+  NeighborhoodParameters p = withRadius(NeighborhoodMode::hybrid, 0.25);
   p.k = 10;
-  p.radius = 0.25;
   const Neighborhoods h = select(cloud, p);
   std::size_t capped = 0;
   for (std::size_t i = 0; i < cloud->size(); ++i) {
-    const auto truth = bruteForce(*cloud, i);
-    const auto inside =
-        std::count_if(truth.begin(), truth.end(), [](const auto& t) { return t.first <= 0.0625f; });
-    EXPECT_EQ(h[i].size(), std::min<std::size_t>(10, static_cast<std::size_t>(inside)));
+    EXPECT_EQ(h[i].size(), std::min<std::size_t>(10, countWithin(bruteForce(*cloud, i), 0.25f)));
     capped += h[i].size() < 10 ? 1 : 0;
   }
   EXPECT_GT(capped, 0u) << "the radius never bound: the test does not exercise it";

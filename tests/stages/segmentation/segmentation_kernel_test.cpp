@@ -15,6 +15,8 @@
 namespace slipfit {
 namespace {
 
+using Phase = SegmentationKernel::Phase;
+
 struct Inputs {
   Eigen::Matrix3Xd points, normals;
   std::shared_ptr<Neighborhoods> hoods;
@@ -81,13 +83,7 @@ TEST(SegmentationKernel, RegionsGrownInRandomPointsAreDroppedAsVolumes) {
   }
   const Inputs in = prepare(cloud, 12);
   SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
-  kernel.estimateScale();
-  kernel.growSlippageSeeds();
-  kernel.growFreeSeeds();
-  kernel.mergeRegions();
-  kernel.refineBoundaries();
-  kernel.joinCreases();
-  kernel.recoverSmallFaces();
+  kernel.runPhases(Phase::estimate_scale, Phase::recover_small_faces, {Phase::revise_types});
   const std::size_t grown = live(kernel);
   EXPECT_GT(grown, 0u) << "random points always lie near some small primitive";
   kernel.dropNonSurfaces();
@@ -121,17 +117,13 @@ TEST(SegmentationKernel, MergeJoinsTheBandsOfACone) {
   const auto cloud = sampledCloud(sp);
   const Inputs in = prepare(cloud, 12);
   SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
-  kernel.estimateScale();
-  kernel.growSlippageSeeds();
-  kernel.growFreeSeeds();
+  kernel.runPhases(Phase::estimate_scale, Phase::grow_free_seeds);
   // Measured (seed 3): 37 bands before the merge, 1 region after it.
   EXPECT_GE(live(kernel), 2u);
   kernel.mergeRegions();
   EXPECT_EQ(live(kernel), 1u);
-  kernel.refineBoundaries();
-  kernel.joinCreases();
-  kernel.recoverSmallFaces();
-  kernel.dropNonSurfaces();
+  kernel.runPhases(Phase::refine_boundaries, Phase::drop_non_surfaces,
+                   {Phase::absorb_fragments, Phase::merge_settled_regions});
   const SegmentationResult r = kernel.finalize();
   ASSERT_EQ(r.segments.size(), 1u);
   EXPECT_EQ(r.segments[0].fit.type, PrimitiveType::cone);
@@ -245,16 +237,11 @@ TEST(SegmentationKernel, ReviseTypesTurnsTheBandOfATangentFilletIntoACylinder) {
     const Inputs in = prepare(cloud, 12);
     for (const bool revise : {false, true}) {
       SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
-      kernel.estimateScale();
-      kernel.growSlippageSeeds();
-      kernel.growFreeSeeds();
-      kernel.mergeRegions();
+      kernel.runPhases(Phase::estimate_scale, Phase::merge_regions);
       if (revise)
         kernel.reviseTypes();
-      kernel.refineBoundaries();
-      kernel.joinCreases();
-      kernel.recoverSmallFaces();
-      kernel.dropNonSurfaces();
+      kernel.runPhases(Phase::refine_boundaries, Phase::drop_non_surfaces,
+                       {Phase::absorb_fragments, Phase::merge_settled_regions});
       const SegmentationResult r = kernel.finalize();
       // The segment holding most of the fillet's points.
       std::size_t best = 0, held = 0;
@@ -296,10 +283,7 @@ TEST(SegmentationKernel, MergesAreTheSameForAnyThreadCount) {
       SegmentationParameters parameters;
       parameters.threads = threads;
       SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, parameters);
-      kernel.estimateScale();
-      kernel.growSlippageSeeds();
-      kernel.growFreeSeeds();
-      kernel.mergeRegions();
+      kernel.runPhases(Phase::estimate_scale, Phase::merge_regions);
       regions.push_back(kernel.regions());
       merges.push_back(kernel.progress().merges);
     }
@@ -374,13 +358,7 @@ TEST(SegmentationKernel, RecoverSmallFacesFindsTheWallsOfSmallHoles) {
     const Inputs in = prepare(cloud, 12);
     for (const bool recover : {false, true}) {
       SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
-      kernel.estimateScale();
-      kernel.growSlippageSeeds();
-      kernel.growFreeSeeds();
-      kernel.mergeRegions();
-      kernel.reviseTypes();
-      kernel.refineBoundaries();
-      kernel.joinCreases();
+      kernel.runPhases(Phase::estimate_scale, Phase::join_creases);
       if (recover)
         kernel.recoverSmallFaces();
       kernel.dropNonSurfaces();

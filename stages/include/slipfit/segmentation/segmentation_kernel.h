@@ -31,6 +31,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <set>
 #include <vector>
@@ -46,6 +47,25 @@ class SegmentationKernel {
                      const Neighborhoods& neighborhoods,
                      const std::vector<SlippageType>& local_types,
                      const SegmentationParameters& parameters);
+
+  /// The phases, in the order segmentBySlippage runs them (docs/THEORY.md §6).
+  enum class Phase {
+    estimate_scale,
+    grow_slippage_seeds,
+    grow_free_seeds,
+    merge_regions,
+    revise_types,
+    refine_boundaries,
+    join_creases,
+    recover_small_faces,
+    absorb_fragments,
+    merge_settled_regions,
+    drop_non_surfaces,
+  };
+  /// Runs one phase.
+  void run(Phase phase);
+  /// Runs the phases from \a first to \a last in their order, except those in \a skip.
+  void runPhases(Phase first, Phase last, std::initializer_list<Phase> skip = {});
 
   void estimateScale();
   void growSlippageSeeds();
