@@ -1,13 +1,13 @@
 #include "adapters.h"
 
 #include "slipfit/core/cloud_maps.h"
-#include "slipfit/slippage/local_slippage.h"
+#include "slipfit/fitting/weighted_fit.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
+#include "slipfit/slippage/local_slippage.h"
 #include "slipfit/slippage/shape_classification.h"
 #include "slipfit/slippage/slippage.h"
-#include "slipfit/fitting/weighted_fit.h"
 
 #include <fstream>
 #include <ostream>
@@ -77,11 +77,8 @@ class SlippageStage : public Stage {
     record.fitted = fit_ && c.fit.has_value();
     if (record.fitted) {
       record.fit = std::move(*c.fit);
-      // Inliers are judged against the noise measured from the points, not against the fit's
-      // own RMS (which would call most points of any fit inliers).
-      record.inlier_distance = std::max(3.0 * c.noise, c.floor);
-      for (Eigen::Index i = 0; i < x.cols(); ++i)
-        record.inliers += distance(x.col(i), record.fit.refined) <= record.inlier_distance ? 1 : 0;
+      record.inlier_distance = c.inlier_distance;
+      record.inliers = c.inliers;
       context.report << "fit: " << primitiveTypeName(record.fit.type) << ", rms "
                      << record.fit.rms_distance << "\n";
     }

@@ -256,6 +256,9 @@ ShapeClassification classifyShape(const Eigen::Ref<const Eigen::Matrix3Xd>& poin
     v.primitive = fit.refined;
     describePrimitive(fit.refined, v);
     v.gap = std::max(spectrum(v.motions), floor) / std::max(spectrum(v.motions - 1), floor);
+    out.inlier_distance = std::max(3.0 * out.noise, out.floor);
+    for (Eigen::Index i = 0; i < points.cols(); ++i)
+      out.inliers += distance(points.col(i), fit.refined) <= out.inlier_distance ? 1 : 0;
     out.fit = std::move(fit);
     return out;
   }

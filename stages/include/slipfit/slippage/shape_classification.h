@@ -10,8 +10,8 @@
 /// sphere at 1 % noise, nor normals alone a vase from a cylinder; together they do. Derivation:
 /// docs/THEORY.md §5.4.
 
-#include "slipfit/slippage/slippage.h"
 #include "slipfit/fitting/weighted_fit.h"
+#include "slipfit/slippage/slippage.h"
 
 #include <Eigen/Core>
 
@@ -45,9 +45,14 @@ struct ShapeClassification {
   /// The verdict: type, motion count, axis / point / centre / normal / pitch, and for a primitive
   /// its refined fit (`primitive`). spectrum and gap are the spectrum's.
   SlippageResult verdict;
-  std::optional<FitResult> fit;            ///< the verdict's primitive fit
-  double noise = 0.0;                      ///< the measured surface noise σ̂, units
-  double floor = 0.0;                      ///< the rounding floor of the distances, units
+  std::optional<FitResult> fit;  ///< the verdict's primitive fit
+  double noise = 0.0;            ///< the measured surface noise σ̂, units
+  double floor = 0.0;            ///< the rounding floor of the distances, units
+  /// With a fit: the points within inlier_distance = max(3 σ̂, floor) of it — judged against the
+  /// noise measured from the points, not the fit's own RMS (which would call most points of any
+  /// fit inliers).
+  double inlier_distance = 0.0;
+  std::size_t inliers = 0;
   std::vector<ShapeCandidate> candidates;  ///< one per primitive type, in kPrimitiveTypeNames order
   /// The spectrum's own reading (what analyzeSlippage reports), for comparison.
   SlippageResult spectral;
