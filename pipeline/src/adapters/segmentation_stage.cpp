@@ -7,9 +7,9 @@
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
 #include "slipfit/render/segment_palette.h"
+#include "slipfit/render/splat_renderer.h"
 #include "slipfit/segmentation/segmentation.h"
 #include "slipfit/segmentation/segmentation_carry_back.h"
-#include "slipfit/render/splat_renderer.h"
 
 #include <pcl/io/png_io.h>
 
@@ -164,10 +164,8 @@ class SegmentationStage : public Stage {
       r.fit.used_points = s.fit.used_points;  // the points the fit saw (the analysis points)
       r.slippage = s.slippage;
       r.inlier_distance = result.distance;
-      for (int i : s.indices) {
-        const Eigen::Vector3d p = pointAt(cloud, i);
-        r.inliers += distance(p, s.fit.refined) <= result.tolerance(p) ? 1 : 0;
-      }
+      for (int i : s.indices)
+        r.inliers += result.explains(s, pointAt(cloud, i)) ? 1 : 0;
       r.extra["points"] = std::to_string(s.indices.size());
       r.extra["seed_slippage_type"] = std::string(slippageTypeName(s.seed_type));
       records.push_back(std::move(r));

@@ -5,12 +5,12 @@
 /// grow, merging of adjacent regions of one primitive, and label −1 for points that fit nothing.
 
 #include "slipfit/core/angle_units.h"
-#include "slipfit/neighborhoods/depth_quantization.h"
-#include "slipfit/slippage/local_slippage.h"
-#include "slipfit/neighborhoods/neighborhoods.h"
 #include "slipfit/core/parameter_declaration.h"
-#include "slipfit/slippage/slippage.h"
 #include "slipfit/fitting/weighted_fit.h"
+#include "slipfit/neighborhoods/depth_quantization.h"
+#include "slipfit/neighborhoods/neighborhoods.h"
+#include "slipfit/slippage/local_slippage.h"
+#include "slipfit/slippage/slippage.h"
 
 #include <pcl/PointIndices.h>
 #include <pcl/pcl_base.h>
@@ -90,6 +90,10 @@ struct SegmentationResult {
   /// The distance tolerance of a point at \a p.
   double tolerance(const Eigen::Vector3d& p) const {
     return distance + step_factor * lattice.stepAt(p);
+  }
+  /// Whether \a p lies within its tolerance of \a segment's refined primitive (an inlier).
+  bool explains(const Segment& segment, const Eigen::Vector3d& p) const {
+    return slipfit::distance(p, segment.fit.refined) <= tolerance(p);
   }
   double noise = 0.0;  ///< the noise estimate σ̂ (units)
   /// distance = noise_factor · noise + a floor from the spacing; 0 when the distance was given.
