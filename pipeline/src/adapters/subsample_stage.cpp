@@ -1,7 +1,9 @@
 #include "adapters.h"
 
-#include "slipfit/pipeline/errors.h"
+#include "slipfit/core/cloud_maps.h"
+
 #include "slipfit/filters/subsampling.h"
+#include "slipfit/pipeline/errors.h"
 
 #include <ostream>
 #include <sstream>
@@ -21,13 +23,8 @@ class SubsampleStage : public Stage {
   void run(PointData& data, RunContext& context) override {
     if (data.full)
       throw RunError("the cloud is already subsampled");
-    const auto n = static_cast<Eigen::Index>(data.size());
-    Eigen::Matrix3Xf x(3, n);
-    for (Eigen::Index i = 0; i < n; ++i)
-      x.col(i) = (*data.cloud)[static_cast<std::size_t>(i)].getVector3fMap();
-    const Subsample s = p_.mode == SubsampleMode::random
-                            ? randomSample(x, p_.points, context.seed)
-                            : (p_.leaf ? voxelSample(x, *p_.leaf) : voxelSampleTo(x, p_.points));
+    const Eigen::Matrix3Xf x = coordinates(*data.cloud);  // the cloud is replaced below
+    const Subsample s = subsample(x, p_, context.seed);
     if (s.kept.size() == data.size()) {
       context.report << "subsample: " << data.size() << " points, none dropped\n";
       return;

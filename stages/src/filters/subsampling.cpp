@@ -183,4 +183,12 @@ RepresentedMean representedMean(const Eigen::Ref<const Eigen::Matrix3Xf>& points
   return out;
 }
 
+Subsample subsample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, const SubsampleParameters& p,
+                    std::uint64_t seed) {
+  p.validate();
+  if (p.mode == SubsampleMode::random)
+    return randomSample(points, p.points, seed);
+  return p.leaf ? voxelSample(points, *p.leaf) : voxelSampleTo(points, p.points);
+}
+
 }  // namespace slipfit

@@ -1,10 +1,10 @@
 // The pieces around segmentation: surface normals of the primitives, the labelled scene sampler,
 // subsampling with representatives, and the splat renderer.
 #include "slipfit/core/exceptions.h"
-#include "slipfit/fitting/primitives.h"
-#include "slipfit/sampling/scene_sampler.h"
-#include "slipfit/render/splat_renderer.h"
 #include "slipfit/filters/subsampling.h"
+#include "slipfit/fitting/primitives.h"
+#include "slipfit/render/splat_renderer.h"
+#include "slipfit/sampling/scene_sampler.h"
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -128,6 +128,19 @@ TEST(Subsampling, VoxelSampleKeepsOnePointPerVoxel) {
   EXPECT_EQ(s.kept, (std::vector<std::int32_t>{0, 3, 5}));
   EXPECT_EQ(s.representative, (std::vector<std::int32_t>{0, 0, 0, 1, 1, 2, 0, 2}));
   EXPECT_THROW(voxelSample(x, 0.0), InvalidParameterError);
+}
+
+TEST(Subsampling, SubsampleRunsTheModeItsParametersAsk) {
+  const Eigen::Matrix3Xf x = eightPoints(0.0f);
+  SubsampleParameters p;
+  p.mode = SubsampleMode::voxel;
+  p.leaf = 1.0;
+  EXPECT_EQ(subsample(x, p, 1).kept, (std::vector<std::int32_t>{0, 3, 5}));
+  p.mode = SubsampleMode::random;
+  p.points = 100;  // at least the declared minimum; more than the 8 points: nothing dropped
+  EXPECT_EQ(subsample(x, p, 1).kept.size(), 8u);
+  p.points = 99;  // below the declared range
+  EXPECT_THROW(subsample(x, p, 1), InvalidParameterError);
 }
 
 TEST(Subsampling, RepresentedMeanIsTheCentroidOfEachVoxel) {

@@ -110,4 +110,9 @@ RepresentedMean representedMean(const Eigen::Ref<const Eigen::Matrix3Xf>& points
 Subsample randomSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target,
                        std::uint64_t seed);
 
+/// The subsample \a parameters ask for: randomSample (mode random), voxelSample at `leaf` or
+/// voxelSampleTo `points` (mode voxel). Validates \a parameters first.
+Subsample subsample(const Eigen::Ref<const Eigen::Matrix3Xf>& points,
+                    const SubsampleParameters& parameters, std::uint64_t seed);
+
 }  // namespace slipfit
