@@ -18,7 +18,6 @@ namespace slipfit::testing {
 
 namespace {
 
-constexpr double kDeg = kPi / 180.0;
 constexpr Eigen::Index kPoints = 4000;
 
 enum class Sampling { uniform, gradient, scan_lines };
@@ -121,7 +120,7 @@ VariedShape variedPrimitive(int index, std::uint64_t seed, const Disturbance& di
       break;
     case 1:
       p.primitive = Sphere{where, size};
-      p.cap = partial ? (50 + 70 * unit(rng)) * kDeg : kPi;
+      p.cap = partial ? (50 + 70 * unit(rng)) * kDegree : kPi;
       p.axis_hint = axis.unitOrthogonal();
       s.truth = SlippageType::sphere;
       break;
@@ -129,26 +128,26 @@ VariedShape variedPrimitive(int index, std::uint64_t seed, const Disturbance& di
       const double ratio = std::pow(10.0, std::log10(0.15) + std::log10(40 / 0.15) * unit(rng));
       p.primitive = Cylinder{axis, where, size};
       p.extent = ratio * size;
-      p.angle_max = partial ? (120 + 150 * unit(rng)) * kDeg : 2 * kPi;
+      p.angle_max = partial ? (120 + 150 * unit(rng)) * kDegree : 2 * kPi;
       s.truth = SlippageType::cylinder;
       extra << " h/r " << ratio;
       break;
     }
     case 3: {
-      const double alpha = (5 + 70 * unit(rng)) * kDeg;
+      const double alpha = (5 + 70 * unit(rng)) * kDegree;
       p.primitive = Cone{axis, where, alpha};
       p.extent_min = size * (0.2 + 0.4 * unit(rng));
       p.extent = p.extent_min + size;
-      p.angle_max = partial ? (150 + 150 * unit(rng)) * kDeg : 2 * kPi;
+      p.angle_max = partial ? (150 + 150 * unit(rng)) * kDegree : 2 * kPi;
       feature = 0.5 * (p.extent_min + p.extent) * std::tan(alpha);
       s.truth = SlippageType::cone;
-      extra << " half-angle " << alpha / kDeg;
+      extra << " half-angle " << alpha / kDegree;
       break;
     }
     default: {
       const double ratio = std::pow(10.0, std::log10(0.06) + std::log10(0.8 / 0.06) * unit(rng));
       p.primitive = Torus{axis, where, size, ratio * size};
-      p.angle_max = partial ? (90 + 180 * unit(rng)) * kDeg : 2 * kPi;
+      p.angle_max = partial ? (90 + 180 * unit(rng)) * kDegree : 2 * kPi;
       feature = ratio * size;
       s.truth = SlippageType::torus;
       extra << " r/R " << ratio;

@@ -14,8 +14,6 @@
 namespace slipfit {
 namespace {
 
-constexpr double kDeg = kPi / 180.0;
-
 TEST(SelectSimplest, FewestParametersAmongTheAdequate) {
   // Torus best; cylinder within 25 %: the cylinder. The plane at 1.4 × is not adequate.
   const std::vector<ModelCandidate> c = {
@@ -81,13 +79,13 @@ TEST(FitAutoLimits, FlatConeIsAPlaneAndSlimConeACylinder) {
   p.seed = 12;
   // Half angle 89.95°: a band from 0 to 1 along the axis spans 1146 units of radius at a slope of
   // 1/1146: the band 0.5–1 deviates from its plane by < 5e-4 ≪ σ.
-  p.primitive = Cone{Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), 89.95 * kDeg};
+  p.primitive = Cone{Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), 89.95 * kDegree};
   p.extent_min = 0.5e-3;
   p.extent = 1e-3;
   EXPECT_EQ(autoType(sample(p)), PrimitiveType::plane);
   // Half angle 0.01°, a band of height 2 at 5000 from the apex (radius ≈ 0.87): the radius changes
   // by 3.5e-4 along the band, a fourteenth of σ: a cylinder.
-  p.primitive = Cone{Eigen::Vector3d::UnitX(), Eigen::Vector3d::Zero(), 0.01 * kDeg};
+  p.primitive = Cone{Eigen::Vector3d::UnitX(), Eigen::Vector3d::Zero(), 0.01 * kDegree};
   p.extent_min = 5000.0;
   p.extent = 5002.0;
   EXPECT_EQ(autoType(sample(p)), PrimitiveType::cylinder);
@@ -102,7 +100,7 @@ TEST(FitAutoLimits, ConeWithItsApexFarBeyondThePointsIsInItsCylinderLimit) {
   p.points = 2000;
   p.noise = 0.0;
   p.seed = 13;
-  const Cone cone{Eigen::Vector3d::UnitX(), Eigen::Vector3d::Zero(), 0.5 * kDeg};
+  const Cone cone{Eigen::Vector3d::UnitX(), Eigen::Vector3d::Zero(), 0.5 * kDegree};
   p.primitive = cone;
   p.extent_min = 5000.0;
   p.extent = 5002.0;

@@ -1,6 +1,7 @@
 // PrimitiveFitting as a PCL user meets it: PCL clouds in, PCL coefficients out, and PCL's own
 // cylinder-segmentation tutorial flow with slipfit's classes swapped in.
 #include "slipfit/fitting/primitive_fitting.h"
+#include "slipfit/core/angle_units.h"
 
 #include "shapes.h"
 #include "slipfit/core/exceptions.h"
@@ -21,7 +22,6 @@
 namespace slipfit {
 namespace {
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 using Cloud = pcl::PointCloud<pcl::PointNormal>;
 
 Cloud::Ptr cloudOf(const Primitive& shape, std::size_t n, double noise = 0.0) {
@@ -63,7 +63,7 @@ TEST(PrimitiveFitting, CoefficientsMeanTheSameToPclsSacModels) {
   const Primitive shapes[] = {
       Plane{Eigen::Vector3d(1, 2, 2) / 3.0, 0.7}, Sphere{Eigen::Vector3d(0.5, -1, 2), 0.8},
       Cylinder{Eigen::Vector3d(0, 1, 1).normalized(), Eigen::Vector3d(1, 0, 0), 0.4},
-      Cone{Eigen::Vector3d(1, 0, 1).normalized(), Eigen::Vector3d(0, 1, 0), 20 * kDeg}};
+      Cone{Eigen::Vector3d(1, 0, 1).normalized(), Eigen::Vector3d(0, 1, 0), 20 * kDegree}};
   for (const auto& shape : shapes) {
     const auto cloud = cloudOf(shape, 2000);
     PrimitiveFitting<pcl::PointNormal> fitting;
@@ -192,7 +192,7 @@ TEST(PrimitiveFitting, PclCylinderTutorialFlowWithSlipfitClasses) {
   const FitResult r = fitting.fit();
   const auto& cyl = std::get<Cylinder>(r.refined);
   EXPECT_NEAR(cyl.radius, 0.15, 0.0015);
-  EXPECT_GT(std::abs(cyl.axis.z()), std::cos(1 * kDeg));
+  EXPECT_GT(std::abs(cyl.axis.z()), std::cos(1 * kDegree));
   const pcl::ModelCoefficients c = toModelCoefficients(r.refined);
   ASSERT_EQ(c.values.size(), 7u);  // the layout the tutorial prints
 }

@@ -14,8 +14,6 @@
 namespace slipfit {
 namespace {
 
-constexpr double kDeg = kPi / 180.0;
-
 /// A random primitive of \a type, size ~ \a size, placed within \a offset of the origin.
 Primitive randomPrimitive(PrimitiveType type, std::mt19937_64& rng, double size, double offset) {
   std::uniform_real_distribution<double> u(-1.0, 1.0), pos(0.5, 1.5);
@@ -32,7 +30,7 @@ Primitive randomPrimitive(PrimitiveType type, std::mt19937_64& rng, double size,
     case PrimitiveType::cylinder:
       return Cylinder{dir(), where, size * pos(rng)};
     case PrimitiveType::cone:
-      return Cone{dir(), where, (15 + 40 * (u(rng) + 1) / 2) * kDeg};
+      return Cone{dir(), where, (15 + 40 * (u(rng) + 1) / 2) * kDegree};
     case PrimitiveType::torus: {
       const double major = size * pos(rng);  // r/R in [0.1, 0.6]
       return Torus{dir(), where, major, major * (0.1 + 0.25 * (u(rng) + 1))};
@@ -65,7 +63,7 @@ Sample sample(const Primitive& shape, double size, double noise_fraction, std::u
 }
 
 double axisAngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) / kDeg;
+  return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) / kDegree;
 }
 
 /// Largest relative parameter error between a fit and the truth (directions: sine of the angle;
@@ -83,7 +81,7 @@ double parameterError(const Primitive& fit, const Primitive& truth, double size)
                           std::abs(f.radius - t.radius) / t.radius);
         } else if constexpr (std::is_same_v<T, Cylinder>) {
           const Eigen::Vector3d v = f.point - t.point;  // must lie on the true axis
-          return std::max({std::sin(axisAngleDeg(f.axis, t.axis) * kDeg),
+          return std::max({std::sin(axisAngleDeg(f.axis, t.axis) * kDegree),
                            (v - v.dot(t.axis) * t.axis).norm() / size,
                            std::abs(f.radius - t.radius) / t.radius});
         } else if constexpr (std::is_same_v<T, Torus>) {
@@ -197,7 +195,7 @@ TEST_P(RandomPoses, OnePercentNoise) {
             EXPECT_LT(axisAngleDeg(g.axis, t.axis), 1.0);
           }
           if constexpr (std::is_same_v<T, Cone>) {
-            EXPECT_LT(std::abs(g.half_angle - t.half_angle) / kDeg, 1.0);
+            EXPECT_LT(std::abs(g.half_angle - t.half_angle) / kDegree, 1.0);
             EXPECT_LT(axisAngleDeg(g.axis, t.axis), 1.0);
           }
           if constexpr (std::is_same_v<T, Torus>) {
@@ -264,7 +262,7 @@ TEST(WeightedFit, PartialCoverage) {
   const Cylinder cyl{Eigen::Vector3d(1, 2, 3).normalized(), Eigen::Vector3d(1, 0, 0), 1.0};
   p.primitive = cyl;
   p.extent = 2.0;
-  p.angle_max = 60 * kDeg;
+  p.angle_max = 60 * kDegree;
   samplePrimitive(p, x, n);
   FitResult r = fitPrimitive(PrimitiveType::cylinder, x, n, Eigen::VectorXd::Ones(x.cols()));
   ASSERT_TRUE(r.ok()) << r.reason;
@@ -277,7 +275,7 @@ TEST(WeightedFit, PartialCoverage) {
   p.primitive = sph;
   p.points = 5000;
   p.noise = 0.002;
-  p.cap = 40 * kDeg;
+  p.cap = 40 * kDegree;
   p.axis_hint = Eigen::Vector3d(0, 1, 1);
   samplePrimitive(p, x, n);
   r = fitPrimitive(PrimitiveType::sphere, x, n, Eigen::VectorXd::Ones(x.cols()));
@@ -285,7 +283,7 @@ TEST(WeightedFit, PartialCoverage) {
   EXPECT_LT(std::abs(std::get<Sphere>(r.refined).radius - 1.0), 0.01);
   EXPECT_LE(r.loss_refined, r.loss_algebraic);
 
-  const Cone cone{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0.3, 0.1, -1), 30 * kDeg};
+  const Cone cone{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0.3, 0.1, -1), 30 * kDegree};
   p = PrimitiveSamplingParameters{};
   p.primitive = cone;
   p.points = 5000;
@@ -295,14 +293,14 @@ TEST(WeightedFit, PartialCoverage) {
   samplePrimitive(p, x, n);
   r = fitPrimitive(PrimitiveType::cone, x, n, Eigen::VectorXd::Ones(x.cols()));
   ASSERT_TRUE(r.ok()) << r.reason;
-  EXPECT_LT(std::abs(std::get<Cone>(r.refined).half_angle - cone.half_angle) / kDeg, 1.0);
+  EXPECT_LT(std::abs(std::get<Cone>(r.refined).half_angle - cone.half_angle) / kDegree, 1.0);
   EXPECT_LT((std::get<Cone>(r.refined).apex - cone.apex).norm(), 0.05);
   EXPECT_LE(r.loss_refined, r.loss_algebraic);
 }
 
 TEST(WeightedFit, NormalSignFlipsDoNotMatter) {
   PrimitiveSamplingParameters p;
-  p.primitive = Cone{Eigen::Vector3d(1, 1, 0).normalized(), Eigen::Vector3d(0, 0, 0), 25 * kDeg};
+  p.primitive = Cone{Eigen::Vector3d(1, 1, 0).normalized(), Eigen::Vector3d(0, 0, 0), 25 * kDegree};
   p.points = 3000;
   p.flip_fraction = 0.5;
   p.extent_min = 0.5;
@@ -356,7 +354,7 @@ TEST(Distances, MatchBruteForceNearestPoints) {
   const Primitive shapes[] = {
       Plane{Eigen::Vector3d(1, 2, 2) / 3.0, 0.5}, Sphere{Eigen::Vector3d(0.2, 0, 0), 1.2},
       Cylinder{Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 0, 0.3), 0.8},
-      Cone{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -0.5), 35 * kDeg}};
+      Cone{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -0.5), 35 * kDegree}};
   for (const auto& shape : shapes) {
     // A fine sampling of a large piece of the surface (whole sphere, ±8 around the others).
     PrimitiveSamplingParameters p;
@@ -385,9 +383,9 @@ TEST(Distances, MatchBruteForceNearestPoints) {
       EXPECT_GT(behind_apex, 5) << "no query exercised the apex case";
   }
   // The apex case exactly: a point straight behind the apex.
-  const Cone c{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d::Zero(), 30 * kDeg};
+  const Cone c{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d::Zero(), 30 * kDegree};
   EXPECT_DOUBLE_EQ(distance(Eigen::Vector3d(0, 0, -2), c), 2.0);
-  EXPECT_NEAR(distance(Eigen::Vector3d(1, 0, 0), c), std::cos(30 * kDeg), 1e-15);
+  EXPECT_NEAR(distance(Eigen::Vector3d(1, 0, 0), c), std::cos(30 * kDegree), 1e-15);
 }
 
 }  // namespace

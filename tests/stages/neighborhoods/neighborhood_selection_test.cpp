@@ -1,6 +1,7 @@
 #include "slipfit/neighborhoods/neighborhood_selection.h"
 
 #include "counting_search.h"
+#include "normal_estimator.h"
 #include "shapes.h"
 #include "slipfit/core/exceptions.h"
 #include "slipfit/neighborhoods/normal_estimation.h"
@@ -208,11 +209,7 @@ TEST(NeighborhoodSelection, SharedNeighborhoodsMeanOneSearchPerPoint) {
   EXPECT_EQ(tree->builds.load(), 1u);
   EXPECT_EQ(tree->queries.load(), cloud->size());
 
-  NormalEstimation<pcl::PointNormal, pcl::Normal> ne;
-  NormalParameters np;
-  np.orientation = NormalOrientation::consistent;
-  ne.setParameters(np);
-  ne.setInputCloud(cloud);
+  auto ne = testing::normalEstimator(cloud, NormalOrientation::consistent);
   ne.setNeighborhoods(hoods);
   ne.setSearchMethod(tree);  // must stay unused
   pcl::PointCloud<pcl::Normal> normals;

@@ -1,5 +1,6 @@
 #include "slipfit/neighborhoods/normal_estimation.h"
 
+#include "normal_estimator.h"
 #include "shapes.h"
 #include "slipfit/core/cloud_maps.h"
 #include "slipfit/core/exceptions.h"
@@ -97,11 +98,7 @@ TEST(NormalEstimation, ReferenceOrientationKeepsTheInputSign) {
   auto reference = std::make_shared<Eigen::Matrix3Xf>(exact(*cloud));
   for (Eigen::Index i = 0; i < reference->cols(); i += 3)
     reference->col(i) *= -1.0f;
-  NormalEstimation<pcl::PointNormal, pcl::Normal> ne;
-  NormalParameters p;
-  p.orientation = NormalOrientation::reference;
-  ne.setParameters(p);
-  ne.setInputCloud(cloud);
+  auto ne = testing::normalEstimator(cloud, NormalOrientation::reference);
   ne.setReferenceNormals(reference);
   pcl::PointCloud<pcl::Normal> out;
   ne.compute(out);
@@ -135,11 +132,7 @@ TEST(NormalEstimation, SharedNeighborhoodsGiveIdenticalNormals) {
 TEST(NormalEstimation, OutputIsAlignedWithIndices) {
   auto cloud =
       std::make_shared<Cloud>(testing::sampleSphere(3000, Eigen::Vector3f::Zero(), 1.0f, 9));
-  NormalEstimation<pcl::PointNormal, pcl::PointNormal> ne;
-  NormalParameters p;
-  p.orientation = NormalOrientation::consistent;
-  ne.setParameters(p);
-  ne.setInputCloud(cloud);
+  auto ne = testing::normalEstimator<pcl::PointNormal>(cloud, NormalOrientation::consistent);
   auto indices = std::make_shared<pcl::Indices>();
   for (int i = 0; i < 3000; i += 2)
     indices->push_back(i);
@@ -178,11 +171,7 @@ TEST(NormalEstimation, RejectsBadInput) {
 
   auto cloud =
       std::make_shared<Cloud>(testing::sampleSphere(100, Eigen::Vector3f::Zero(), 1.0f, 11));
-  NormalEstimation<pcl::PointNormal, pcl::Normal> ref;
-  NormalParameters q;
-  q.orientation = NormalOrientation::reference;
-  ref.setParameters(q);
-  ref.setInputCloud(cloud);
+  auto ref = testing::normalEstimator(cloud, NormalOrientation::reference);
   EXPECT_THROW(ref.compute(out), DegenerateInputError);  // no reference normals
   ref.setNeighborhoods(std::make_shared<Neighborhoods>(7));
   EXPECT_THROW(ref.compute(out), DegenerateInputError);  // neighborhoods of another cloud

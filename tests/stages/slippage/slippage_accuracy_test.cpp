@@ -22,8 +22,6 @@
 namespace slipfit {
 namespace {
 
-constexpr double kDeg = kPi / 180.0;
-
 struct Trial {
   SlippageType truth;
   Eigen::Matrix3Xd x, n;
@@ -53,21 +51,21 @@ Trial makeTrial(int i, double noise_fraction, std::mt19937_64& rng) {
       break;
     case 1:
       p.primitive = Sphere{where, size};
-      p.cap = partial ? 70 * kDeg : kPi;
+      p.cap = partial ? 70 * kDegree : kPi;
       p.axis_hint = axis.unitOrthogonal();
       t.truth = SlippageType::sphere;
       break;
     case 2:
       p.primitive = Cylinder{axis, where, 0.5 * size};
       p.extent = 2 * size;
-      p.angle_max = partial ? 150 * kDeg : 2 * kPi;
+      p.angle_max = partial ? 150 * kDegree : 2 * kPi;
       t.truth = SlippageType::cylinder;
       break;
     default:
-      p.primitive = Cone{axis, where, (20 + 30 * unit(rng)) * kDeg};
+      p.primitive = Cone{axis, where, (20 + 30 * unit(rng)) * kDegree};
       p.extent_min = 0.3 * size;
       p.extent = 1.3 * size;
-      p.angle_max = partial ? 200 * kDeg : 2 * kPi;
+      p.angle_max = partial ? 200 * kDegree : 2 * kPi;
       t.truth = SlippageType::cone;
       break;
   }

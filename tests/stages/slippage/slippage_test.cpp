@@ -30,8 +30,6 @@ TEST(SlippageOptions, ValidateNamesTheFieldOutOfItsRange) {
   EXPECT_THROW(analyzeSlippage(p, n, Eigen::VectorXd::Ones(20), o), InvalidParameterError);
 }
 
-constexpr double kDeg = kPi / 180.0;
-
 struct Cloud3 {
   Eigen::Matrix3Xd x, n;
 };
@@ -56,7 +54,7 @@ SlippageResult analyze(const Cloud3& c) {
 }
 
 double angleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) / kDeg;
+  return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) / kDegree;
 }
 
 TEST(Slippage, MotionCountsAndTypesOfThePrimitives) {
@@ -70,7 +68,7 @@ TEST(Slippage, MotionCountsAndTypesOfThePrimitives) {
   const Case cases[] = {{Plane{axis, 2.0}, SlippageType::plane, 3},
                         {Sphere{where, 0.7}, SlippageType::sphere, 3},
                         {Cylinder{axis, where, 0.4}, SlippageType::cylinder, 2},
-                        {Cone{axis, where, 30 * kDeg}, SlippageType::cone, 1}};
+                        {Cone{axis, where, 30 * kDegree}, SlippageType::cone, 1}};
   for (const auto& c : cases) {
     for (const double flips : {0.0, 0.5}) {
       const SlippageResult r = analyze(primitiveCloud(c.shape, 0.0, 7, flips));
@@ -99,12 +97,12 @@ TEST(Slippage, RecoversAxesCentresAndApexAtOnePercentNoise) {
   ASSERT_EQ(r.type, SlippageType::plane);
   EXPECT_LT(angleDeg(*r.normal, axis), 1.0);
 
-  r = analyze(primitiveCloud(Cone{axis, where, 25 * kDeg}, 0.01, 6));
+  r = analyze(primitiveCloud(Cone{axis, where, 25 * kDegree}, 0.01, 6));
   ASSERT_EQ(r.type, SlippageType::cone) << slippageTypeName(r.type);
   EXPECT_LT(angleDeg(*r.axis, axis), 1.0);
   EXPECT_GT(r.axis->dot(axis), 0.0) << "the cone axis points into the opening";
   EXPECT_LT((*r.point - where).norm(), 0.05);
-  EXPECT_NEAR(std::get<Cone>(*r.primitive).half_angle / kDeg, 25.0, 1.0);
+  EXPECT_NEAR(std::get<Cone>(*r.primitive).half_angle / kDegree, 25.0, 1.0);
 }
 
 TEST(Slippage, TorusIsASurfaceOfRevolutionWithACircularProfile) {

@@ -7,6 +7,7 @@
 // (98.5 %), 398 of 400 one-motion surfaces. SLIPPAGE_DEBUG=1 lists every miss.
 #include "varied_shapes.h"
 
+#include "slipfit/core/angle_units.h"
 #include "slipfit/slippage/shape_classification.h"
 
 #include <gtest/gtest.h>
@@ -19,8 +20,6 @@ namespace {
 
 using testing::Disturbance;
 using testing::VariedShape;
-
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
 bool debug() {
   return std::getenv("SLIPPAGE_DEBUG") != nullptr;
@@ -55,40 +54,42 @@ void report(const SlippageResult& r, const VariedShape& s, int i) {
               << "\n";
 }
 
-Tally primitives(std::uint64_t seed, const Disturbance& d, int count) {
+/// Classifies \a count shapes made by \a make and counts those \a judge calls right.
+template <typename Make, typename Judge>
+Tally tally(const char* what, std::uint64_t seed, const Disturbance& d, int count, Make make,
+            Judge judge) {
   Tally t;
   for (int i = 0; i < count; ++i) {
-    const VariedShape s = testing::variedPrimitive(i, seed, d);
+    const VariedShape s = make(i, seed, d);
     const SlippageResult r = analyze(s);
     ++t.total;
-    if (r.type == s.truth)
+    if (judge(r, s))
       ++t.right;
     else
       report(r, s, i);
   }
-  std::cout << "primitives seed " << seed << " noise " << d.noise * 100 << "% "
+  std::cout << what << " seed " << seed << " noise " << d.noise * 100 << "% "
             << (d.estimated_normals ? "PCA" : "exact") << ": " << t.right << "/" << t.total << "\n";
   return t;
 }
 
+/// The class right.
+Tally primitives(std::uint64_t seed, const Disturbance& d, int count) {
+  return tally("primitives", seed, d, count, testing::variedPrimitive,
+               [](const SlippageResult& r, const VariedShape& s) { return r.type == s.truth; });
+}
+
 /// The class right, the axis within 1° and a screw's pitch within 2 %.
 Tally motionSurfaces(std::uint64_t seed, const Disturbance& d, int count) {
-  Tally t;
-  for (int i = 0; i < count; ++i) {
-    const VariedShape s = testing::variedMotionSurface(i, seed, d);
-    const SlippageResult r = analyze(s);
-    ++t.total;
-    bool ok = r.type == s.truth && r.axis && std::abs(r.axis->dot(s.axis)) >= std::cos(1 * kDeg);
-    if (ok && s.truth == SlippageType::helix)
-      ok = r.pitch && std::abs(std::abs(*r.pitch) - std::abs(s.pitch)) <= 0.02 * std::abs(s.pitch);
-    if (ok)
-      ++t.right;
-    else
-      report(r, s, i);
-  }
-  std::cout << "motion surfaces seed " << seed << " noise " << d.noise * 100 << "% "
-            << (d.estimated_normals ? "PCA" : "exact") << ": " << t.right << "/" << t.total << "\n";
-  return t;
+  return tally("motion surfaces", seed, d, count, testing::variedMotionSurface,
+               [](const SlippageResult& r, const VariedShape& s) {
+                 bool ok = r.type == s.truth && r.axis &&
+                           std::abs(r.axis->dot(s.axis)) >= std::cos(1 * kDegree);
+                 if (ok && s.truth == SlippageType::helix)
+                   ok = r.pitch && std::abs(std::abs(*r.pitch) - std::abs(s.pitch)) <=
+                                       0.02 * std::abs(s.pitch);
+                 return ok;
+               });
 }
 
 constexpr std::uint64_t kHeldOutSeed = 2;
