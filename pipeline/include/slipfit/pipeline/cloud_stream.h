@@ -1,0 +1,55 @@
+#pragma once
+/// \file The coordinates of a PLY or PCD file read by row ranges, without loading the file: binary
+/// files (PLY little or big endian, PCD binary) by one seek per range, ascii files by reading on
+/// (their ranges must come in increasing order). The first piece of out-of-core input (issue 17);
+/// the header is parsed here because PCL 1.13's PLYReader::readHeader reads the whole file.
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <fstream>
+#include <string>
+
+namespace slipfit::pipeline {
+
+class CloudStream {
+ public:
+  /// Opens \a path (.ply or .pcd) and reads its header. Throws RunError naming the file and the
+  /// header line for what it cannot stream: no x, y, z, a list property in the vertex element or
+  /// before it, compressed PCD.
+  explicit CloudStream(const std::string& path);
+
+  /// Points in the file.
+  std::uint64_t size() const { return points_; }
+  /// The file stores x, y, z as double.
+  bool doubleCoordinates() const { return coordinate_bytes_ == 8; }
+
+  /// Reads points [first, first + count) as 3 × count doubles (as stored: a float widens
+  /// exactly). Throws RunError when the range passes the end, when the file ends early or a value
+  /// does not parse, and, for ascii files, when \a first lies before the rows already read.
+  void read(std::uint64_t first, std::uint64_t count, Eigen::Matrix3Xd& xyz);
+
+ private:
+  enum class Encoding { ascii, little_endian, big_endian };
+  void parsePly();
+  void parsePcd();
+  [[noreturn]] void fail(const std::string& what) const;
+  double binaryValue(const char* record, int axis) const;
+
+  std::string path_;
+  std::ifstream in_;
+  Encoding encoding_ = Encoding::ascii;
+  std::uint64_t points_ = 0;
+  std::uint64_t data_offset_ = 0;         ///< byte where the points' rows start
+  std::uint64_t record_bytes_ = 0;        ///< binary: bytes per row
+  std::uint64_t offset_[3] = {0, 0, 0};   ///< binary: byte of x, y, z in a row
+  int column_[3] = {-1, -1, -1};          ///< ascii: token of x, y, z in a row
+  int coordinate_bytes_ = 4;              ///< 4 (float) or 8 (double), the same for x, y and z
+  int columns_ = 0;                       ///< ascii: tokens per row
+  std::uint64_t next_row_ = 0;            ///< ascii: the row the stream stands at
+  std::uint64_t ascii_lines_before_ = 0;  ///< ascii PLY: rows of elements before the vertices
+  bool started_ = false;                  ///< ascii: the stream stands in the data
+  bool coordinate_bytes_set_ = false;
+};
+
+}  // namespace slipfit::pipeline

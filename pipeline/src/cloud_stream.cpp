@@ -1,0 +1,295 @@
+#include "slipfit/pipeline/cloud_stream.h"
+
+#include "slipfit/pipeline/errors.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+#include <vector>
+
+namespace slipfit::pipeline {
+
+namespace {
+
+/// Bytes of a PLY scalar type; 0 for an unknown name.
+int plyTypeBytes(const std::string& type) {
+  static const std::pair<const char*, int> kTypes[] = {
+      {"char", 1},   {"int8", 1},    {"uchar", 1},  {"uint8", 1},  {"short", 2}, {"int16", 2},
+      {"ushort", 2}, {"uint16", 2},  {"int", 4},    {"int32", 4},  {"uint", 4},  {"uint32", 4},
+      {"float", 4},  {"float32", 4}, {"double", 8}, {"float64", 8}};
+  for (const auto& [name, bytes] : kTypes)
+    if (type == name)
+      return bytes;
+  return 0;
+}
+
+bool isFloatType(const std::string& type) {
+  return type == "float" || type == "float32" || type == "double" || type == "float64";
+}
+
+std::vector<std::string> words(const std::string& line) {
+  std::istringstream s(line);
+  std::vector<std::string> out;
+  for (std::string w; s >> w;)
+    out.push_back(w);
+  return out;
+}
+
+bool parseCount(const std::string& text, std::uint64_t& value) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+    return false;
+  value = std::strtoull(text.c_str(), nullptr, 10);
+  return true;
+}
+
+}  // namespace
+
+CloudStream::CloudStream(const std::string& path) : path_(path), in_(path, std::ios::binary) {
+  if (!in_)
+    throw RunError("cannot open '" + path + "'");
+  std::string first;
+  std::getline(in_, first);
+  if (!first.empty() && first.back() == '\r')
+    first.pop_back();
+  in_.seekg(0);
+  if (first == "ply")
+    parsePly();
+  else
+    parsePcd();
+}
+
+void CloudStream::fail(const std::string& what) const {
+  throw RunError("'" + path_ + "': " + what);
+}
+
+void CloudStream::parsePly() {
+  std::string line;
+  int number = 0;
+  bool in_vertex = false, seen_vertex = false;
+  std::uint64_t skip_bytes = 0, skip_lines = 0, element_count = 0;
+  std::string coordinate_type;
+  int property = 0;
+  while (std::getline(in_, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r')
+      line.pop_back();
+    const std::vector<std::string> w = words(line);
+    const std::string at = "line " + std::to_string(number) + ": ";
+    if (w.empty() || w[0] == "ply" || w[0] == "comment" || w[0] == "obj_info")
+      continue;
+    if (w[0] == "format") {
+      if (w.size() < 2)
+        fail(at + "format without an encoding");
+      if (w[1] == "ascii")
+        encoding_ = Encoding::ascii;
+      else if (w[1] == "binary_little_endian")
+        encoding_ = Encoding::little_endian;
+      else if (w[1] == "binary_big_endian")
+        encoding_ = Encoding::big_endian;
+      else
+        fail(at + "unknown format '" + w[1] + "'");
+    } else if (w[0] == "element") {
+      if (w.size() != 3 || !parseCount(w[2], element_count))
+        fail(at + "an element line is 'element <name> <count>'");
+      if (in_vertex)
+        in_vertex = false;  // elements after the vertices are never read
+      if (!seen_vertex && w[1] == "vertex") {
+        in_vertex = seen_vertex = true;
+        points_ = element_count;
+        property = 0;
+      } else if (!seen_vertex) {
+        skip_lines += element_count;
+      }
+    } else if (w[0] == "property") {
+      if (w.size() >= 2 && w[1] == "list") {
+        if (!seen_vertex || in_vertex)
+          fail(at + "a list property in or before the vertex element cannot be read by rows");
+        continue;
+      }
+      if (w.size() != 3 || plyTypeBytes(w[1]) == 0)
+        fail(at + "a property line is 'property <type> <name>'");
+      const int bytes = plyTypeBytes(w[1]);
+      if (in_vertex) {
+        for (int a = 0; a < 3; ++a)
+          if (w[2] == std::string(1, "xyz"[a])) {
+            if (!isFloatType(w[1]))
+              fail(at + "coordinate " + w[2] + " is not float or double");
+            if (!coordinate_type.empty() && plyTypeBytes(coordinate_type) != bytes)
+              fail(at + "x, y and z must have one type");
+            coordinate_type = w[1];
+            offset_[a] = record_bytes_;
+            column_[a] = property;
+          }
+        record_bytes_ += static_cast<std::uint64_t>(bytes);
+        ++property;
+      } else if (!seen_vertex) {
+        skip_bytes += element_count * static_cast<std::uint64_t>(bytes);
+      }
+    } else if (w[0] == "end_header") {
+      if (!seen_vertex)
+        fail("no vertex element");
+      if (column_[0] < 0 || column_[1] < 0 || column_[2] < 0)
+        fail("the vertex element has no x, y and z");
+      coordinate_bytes_ = plyTypeBytes(coordinate_type);
+      columns_ = property;
+      data_offset_ = static_cast<std::uint64_t>(in_.tellg());
+      if (encoding_ == Encoding::ascii)
+        ascii_lines_before_ = skip_lines;
+      else
+        data_offset_ += skip_bytes;
+      return;
+    } else {
+      fail(at + "unexpected header line '" + line + "'");
+    }
+  }
+  fail("the header has no end_header line");
+}
+
+void CloudStream::parsePcd() {
+  std::string line;
+  int number = 0;
+  std::vector<std::string> fields, sizes, types, counts;
+  std::uint64_t width = 0, height = 1;
+  bool has_points = false;
+  while (std::getline(in_, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r')
+      line.pop_back();
+    const std::vector<std::string> w = words(line);
+    const std::string at = "line " + std::to_string(number) + ": ";
+    if (w.empty() || w[0][0] == '#')
+      continue;
+    const std::vector<std::string> rest(w.begin() + 1, w.end());
+    if (w[0] == "VERSION" || w[0] == "VIEWPOINT")
+      continue;
+    if (w[0] == "FIELDS" || w[0] == "COLUMNS")
+      fields = rest;
+    else if (w[0] == "SIZE")
+      sizes = rest;
+    else if (w[0] == "TYPE")
+      types = rest;
+    else if (w[0] == "COUNT")
+      counts = rest;
+    else if (w[0] == "WIDTH" && (rest.size() != 1 || !parseCount(rest[0], width)))
+      fail(at + "WIDTH is not a count");
+    else if (w[0] == "HEIGHT" && (rest.size() != 1 || !parseCount(rest[0], height)))
+      fail(at + "HEIGHT is not a count");
+    else if (w[0] == "POINTS") {
+      if (rest.size() != 1 || !parseCount(rest[0], points_))
+        fail(at + "POINTS is not a count");
+      has_points = true;
+    } else if (w[0] == "DATA") {
+      if (rest.size() != 1 || (rest[0] != "ascii" && rest[0] != "binary"))
+        fail(at + "DATA " + (rest.empty() ? "" : rest[0]) +
+             " cannot be read by rows (ascii and binary can; binary_compressed cannot)");
+      encoding_ = rest[0] == "ascii" ? Encoding::ascii : Encoding::little_endian;
+      if (counts.empty())
+        counts.assign(fields.size(), "1");
+      if (sizes.size() != fields.size() || types.size() != fields.size() ||
+          counts.size() != fields.size())
+        fail(at + "FIELDS, SIZE, TYPE and COUNT differ in length");
+      int column = 0;
+      for (std::size_t f = 0; f < fields.size(); ++f) {
+        std::uint64_t size = 0, count = 0;
+        if (!parseCount(sizes[f], size) || !parseCount(counts[f], count) || size == 0)
+          fail(at + "field " + fields[f] + " has a bad SIZE or COUNT");
+        for (int a = 0; a < 3; ++a)
+          if (fields[f] == std::string(1, "xyz"[a])) {
+            if (types[f] != "F" || count != 1 || (size != 4 && size != 8))
+              fail("coordinate " + fields[f] + " is not one float or double");
+            if (coordinate_bytes_set_ && static_cast<int>(size) != coordinate_bytes_)
+              fail("x, y and z must have one type");
+            coordinate_bytes_ = static_cast<int>(size);
+            coordinate_bytes_set_ = true;
+            offset_[a] = record_bytes_;
+            column_[a] = column;
+          }
+        record_bytes_ += size * count;
+        column += static_cast<int>(count);
+      }
+      if (column_[0] < 0 || column_[1] < 0 || column_[2] < 0)
+        fail("the fields have no x, y and z");
+      columns_ = column;
+      if (!has_points)
+        points_ = width * height;
+      data_offset_ = static_cast<std::uint64_t>(in_.tellg());
+      return;
+    } else if (w[0] != "WIDTH" && w[0] != "HEIGHT") {
+      fail(at + "not a PLY or PCD header line: '" + line + "'");
+    }
+  }
+  fail("the header has no DATA line");
+}
+
+double CloudStream::binaryValue(const char* record, int axis) const {
+  unsigned char bytes[8];
+  std::memcpy(bytes, record + offset_[axis], static_cast<std::size_t>(coordinate_bytes_));
+  if (encoding_ == Encoding::big_endian)
+    std::reverse(bytes, bytes + coordinate_bytes_);
+  if (coordinate_bytes_ == 8) {
+    double v;
+    std::memcpy(&v, bytes, 8);
+    return v;
+  }
+  float v;
+  std::memcpy(&v, bytes, 4);
+  return static_cast<double>(v);
+}
+
+void CloudStream::read(std::uint64_t first, std::uint64_t count, Eigen::Matrix3Xd& xyz) {
+  if (first > points_ || count > points_ - first)
+    fail("rows " + std::to_string(first) + " to " + std::to_string(first + count) +
+         " pass the end (" + std::to_string(points_) + " points)");
+  xyz.resize(3, static_cast<Eigen::Index>(count));
+  if (encoding_ != Encoding::ascii) {
+    constexpr std::uint64_t kRowsPerChunk = 1u << 16;
+    std::vector<char> buffer;
+    in_.clear();
+    in_.seekg(static_cast<std::streamoff>(data_offset_ + first * record_bytes_));
+    for (std::uint64_t done = 0; done < count;) {
+      const std::uint64_t rows = std::min(kRowsPerChunk, count - done);
+      buffer.resize(rows * record_bytes_);
+      if (!in_.read(buffer.data(), static_cast<std::streamsize>(buffer.size())))
+        fail("the file ends before row " + std::to_string(first + count));
+      for (std::uint64_t r = 0; r < rows; ++r)
+        for (int a = 0; a < 3; ++a)
+          xyz(a, static_cast<Eigen::Index>(done + r)) =
+              binaryValue(buffer.data() + r * record_bytes_, a);
+      done += rows;
+    }
+    return;
+  }
+  if (first < next_row_)
+    fail("ascii rows are read in order: row " + std::to_string(first) + " comes after row " +
+         std::to_string(next_row_));
+  std::string line;
+  if (!started_) {
+    in_.seekg(static_cast<std::streamoff>(data_offset_));
+    for (std::uint64_t k = 0; k < ascii_lines_before_; ++k)
+      std::getline(in_, line);
+    started_ = true;
+  }
+  for (; next_row_ < first; ++next_row_)
+    if (!std::getline(in_, line))
+      fail("the file ends before row " + std::to_string(first));
+  for (std::uint64_t r = 0; r < count; ++r, ++next_row_) {
+    if (!std::getline(in_, line))
+      fail("the file ends before row " + std::to_string(first + count));
+    const std::vector<std::string> w = words(line);
+    if (static_cast<int>(w.size()) < columns_)
+      fail("row " + std::to_string(next_row_) + " has " + std::to_string(w.size()) +
+           " values, the header announces " + std::to_string(columns_));
+    for (int a = 0; a < 3; ++a) {
+      const std::string& text = w[static_cast<std::size_t>(column_[a])];
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (end != text.c_str() + text.size())
+        fail("row " + std::to_string(next_row_) + ": '" + text + "' is not a number");
+      xyz(a, static_cast<Eigen::Index>(r)) =
+          coordinate_bytes_ == 4 ? static_cast<double>(static_cast<float>(v)) : v;
+    }
+  }
+}
+
+}  // namespace slipfit::pipeline

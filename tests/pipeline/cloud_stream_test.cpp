@@ -1,0 +1,141 @@
+// CloudStream: the coordinates of PLY and PCD files read by row ranges equal those PCL's readers
+// load from the whole file, in every encoding.
+
+#include "slipfit/pipeline/cloud_stream.h"
+#include "slipfit/pipeline/errors.h"
+
+#include "run_cli.h"
+
+#include <gtest/gtest.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
+#include <pcl/point_types.h>
+
+#include <cstring>
+#include <fstream>
+#include <random>
+
+namespace slipfit::pipeline {
+namespace {
+
+pcl::PointCloud<pcl::PointXYZRGBNormal> randomCloud(std::size_t n) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-100.0f, 100.0f);
+  pcl::PointCloud<pcl::PointXYZRGBNormal> c;
+  for (std::size_t i = 0; i < n; ++i) {
+    pcl::PointXYZRGBNormal p;
+    p.x = u(rng);
+    p.y = u(rng);
+    p.z = u(rng);
+    p.normal_x = 1.0f;
+    p.r = 7;
+    c.push_back(p);
+  }
+  return c;
+}
+
+/// Rows [first, first + count) read from \a path equal \a cloud's, exactly.
+void expectRows(CloudStream& s, const pcl::PointCloud<pcl::PointXYZRGBNormal>& cloud,
+                std::uint64_t first, std::uint64_t count) {
+  Eigen::Matrix3Xd xyz;
+  s.read(first, count, xyz);
+  ASSERT_EQ(xyz.cols(), static_cast<Eigen::Index>(count));
+  for (std::uint64_t r = 0; r < count; ++r) {
+    const auto& p = cloud[static_cast<std::size_t>(first + r)];
+    ASSERT_EQ(xyz(0, static_cast<Eigen::Index>(r)), static_cast<double>(p.x)) << first + r;
+    ASSERT_EQ(xyz(1, static_cast<Eigen::Index>(r)), static_cast<double>(p.y)) << first + r;
+    ASSERT_EQ(xyz(2, static_cast<Eigen::Index>(r)), static_cast<double>(p.z)) << first + r;
+  }
+}
+
+TEST(CloudStream, RowRangesEqualPclsWholeRead) {
+  const auto cloud = randomCloud(5000);
+  const std::string dir = testing::scratchFile("stream.keep", "");
+  struct Case {
+    std::string name;
+    bool binary, ply;
+  };
+  for (const Case& c : {Case{"a.ply", false, true}, Case{"b.ply", true, true},
+                        Case{"a.pcd", false, false}, Case{"b.pcd", true, false}}) {
+    const std::string path = dir + "." + c.name;
+    if (c.ply)
+      ASSERT_EQ(pcl::io::savePLYFile(path, cloud, c.binary), 0);
+    else
+      ASSERT_EQ(pcl::io::savePCDFile(path, cloud, c.binary), 0);
+    // What PCL reads back from the file (ascii files round through their decimal text).
+    pcl::PointCloud<pcl::PointXYZRGBNormal> loaded;
+    ASSERT_EQ(c.ply ? pcl::io::loadPLYFile(path, loaded) : pcl::io::loadPCDFile(path, loaded), 0);
+    CloudStream s(path);
+    EXPECT_EQ(s.size(), 5000u) << c.name;
+    EXPECT_FALSE(s.doubleCoordinates());
+    expectRows(s, loaded, 0, 1);
+    expectRows(s, loaded, 10, 990);
+    expectRows(s, loaded, 2500, 2500);
+    if (c.binary) {  // binary files seek: any order
+      expectRows(s, loaded, 7, 3);
+      expectRows(s, loaded, 4999, 1);
+    } else {
+      Eigen::Matrix3Xd xyz;
+      EXPECT_THROW(s.read(7, 3, xyz), RunError) << c.name;
+    }
+    Eigen::Matrix3Xd xyz;
+    EXPECT_THROW(s.read(4990, 11, xyz), RunError) << c.name;
+  }
+}
+
+/// A binary big-endian PLY of doubles at UTM-like coordinates, after a face element is declared.
+TEST(CloudStream, BigEndianDoublesKeepTheirPrecision) {
+  std::string text =
+      "ply\nformat binary_big_endian 1.0\ncomment georeferenced\nelement vertex 3\n"
+      "property double x\nproperty double y\nproperty double z\nproperty uchar intensity\n"
+      "element face 0\nproperty list uchar int vertex_indices\nend_header\n";
+  const double values[3][3] = {{500000.125, 5400000.0625, 12.5},
+                               {500001.001, 5400001.002, 13.003},
+                               {499999.999, 5399999.998, 11.997}};
+  for (const auto& row : values) {
+    for (const double v : row) {
+      unsigned char b[8];
+      std::memcpy(b, &v, 8);
+      for (int k = 7; k >= 0; --k)
+        text.push_back(static_cast<char>(b[k]));
+    }
+    text.push_back(static_cast<char>(200));
+  }
+  CloudStream s(testing::scratchFile("big.ply", text));
+  EXPECT_TRUE(s.doubleCoordinates());
+  Eigen::Matrix3Xd xyz;
+  s.read(1, 2, xyz);
+  for (int r = 0; r < 2; ++r)
+    for (int a = 0; a < 3; ++a)
+      EXPECT_EQ(xyz(a, r), values[r + 1][a]);
+}
+
+TEST(CloudStream, RefusesWhatItCannotReadByRows) {
+  const auto refused = [](const std::string& name, const std::string& text,
+                          const std::string& why) {
+    try {
+      CloudStream s(testing::scratchFile(name, text));
+      ADD_FAILURE() << name << " accepted";
+    } catch (const RunError& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  };
+  refused("compressed.pcd",
+          "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT "
+          "1\nPOINTS 1\nDATA binary_compressed\n",
+          "binary_compressed cannot");
+  refused("nox.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float y\nend_header\n1\n",
+          "no x, y and z");
+  refused("list.ply",
+          "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+          "property float z\nproperty list uchar int n\nend_header\n",
+          "line 7: a list property");
+  refused("mixed.ply",
+          "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty double y\n"
+          "property float z\nend_header\n",
+          "line 5: x, y and z must have one type");
+}
+
+}  // namespace
+}  // namespace slipfit::pipeline
