@@ -57,6 +57,17 @@ CloudStream::CloudStream(const std::string& path) : path_(path), in_(path, std::
     parsePly();
   else
     parsePcd();
+  if (encoding_ == Encoding::ascii)
+    return;
+  // A binary header must not announce more rows than the file holds.
+  in_.seekg(0, std::ios::end);
+  const auto bytes = static_cast<std::uint64_t>(in_.tellg());
+  if (record_bytes_ == 0 || bytes < data_offset_ ||
+      points_ > (bytes - data_offset_) / record_bytes_)
+    fail("the header announces " + std::to_string(points_) + " points of " +
+         std::to_string(record_bytes_) + " bytes; the file holds " +
+         std::to_string(record_bytes_ ? (bytes - std::min(bytes, data_offset_)) / record_bytes_
+                                      : 0));
 }
 
 void CloudStream::fail(const std::string& what) const {

@@ -125,6 +125,10 @@ TEST(CloudStream, RefusesWhatItCannotReadByRows) {
           "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT "
           "1\nPOINTS 1\nDATA binary_compressed\n",
           "binary_compressed cannot");
+  refused("short.pcd",
+          "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1000000\n"
+          "HEIGHT 1\nPOINTS 1000000\nDATA binary\n0123456789AB",
+          "announces 1000000 points of 12 bytes; the file holds 1");
   refused("nox.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float y\nend_header\n1\n",
           "no x, y and z");
   refused("list.ply",

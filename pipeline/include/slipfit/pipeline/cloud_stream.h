@@ -16,7 +16,7 @@ class CloudStream {
  public:
   /// Opens \a path (.ply or .pcd) and reads its header. Throws RunError naming the file and the
   /// header line for what it cannot stream: no x, y, z, a list property in the vertex element or
-  /// before it, compressed PCD.
+  /// before it, compressed PCD, a binary file shorter than its header announces.
   explicit CloudStream(const std::string& path);
 
   /// Points in the file.
