@@ -74,6 +74,16 @@ void CloudStream::fail(const std::string& what) const {
   throw RunError("'" + path_ + "': " + what);
 }
 
+bool CloudStream::headerLine(std::string& line, std::vector<std::string>& w, int& number) {
+  if (!std::getline(in_, line))
+    return false;
+  ++number;
+  if (!line.empty() && line.back() == '\r')
+    line.pop_back();
+  w = words(line);
+  return true;
+}
+
 void CloudStream::parsePly() {
   std::string line;
   int number = 0;
@@ -81,11 +91,8 @@ void CloudStream::parsePly() {
   std::uint64_t skip_bytes = 0, skip_lines = 0, element_count = 0;
   std::string coordinate_type;
   int property = 0;
-  while (std::getline(in_, line)) {
-    ++number;
-    if (!line.empty() && line.back() == '\r')
-      line.pop_back();
-    const std::vector<std::string> w = words(line);
+  std::vector<std::string> w;
+  while (headerLine(line, w, number)) {
     const std::string at = "line " + std::to_string(number) + ": ";
     if (w.empty() || w[0] == "ply" || w[0] == "comment" || w[0] == "obj_info")
       continue;
@@ -163,11 +170,8 @@ void CloudStream::parsePcd() {
   std::vector<std::string> fields, sizes, types, counts;
   std::uint64_t width = 0, height = 1;
   bool has_points = false;
-  while (std::getline(in_, line)) {
-    ++number;
-    if (!line.empty() && line.back() == '\r')
-      line.pop_back();
-    const std::vector<std::string> w = words(line);
+  std::vector<std::string> w;
+  while (headerLine(line, w, number)) {
     const std::string at = "line " + std::to_string(number) + ": ";
     if (w.empty() || w[0][0] == '#')
       continue;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace slipfit::pipeline {
 
@@ -31,6 +32,8 @@ class CloudStream {
 
  private:
   enum class Encoding { ascii, little_endian, big_endian };
+  /// The next header line, without a trailing CR, and its words; false at the end of the file.
+  bool headerLine(std::string& line, std::vector<std::string>& words, int& number);
   void parsePly();
   void parsePcd();
   [[noreturn]] void fail(const std::string& what) const;
