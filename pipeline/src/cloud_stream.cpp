@@ -57,6 +57,9 @@ CloudStream::CloudStream(const std::string& path) : path_(path), in_(path, std::
     parsePly();
   else
     parsePcd();
+  for (int a = 0; a < 3; ++a)  // the parsers place each coordinate inside a row
+    if (offset_[a] + static_cast<std::uint64_t>(coordinate_bytes_) > record_bytes_)
+      fail("coordinate " + std::string(1, "xyz"[a]) + " lies outside its row");
   if (encoding_ == Encoding::ascii)
     return;
   // A binary header must not announce more rows than the file holds.
@@ -207,7 +210,9 @@ void CloudStream::parsePcd() {
       int column = 0;
       for (std::size_t f = 0; f < fields.size(); ++f) {
         std::uint64_t size = 0, count = 0;
-        if (!parseCount(sizes[f], size) || !parseCount(counts[f], count) || size == 0)
+        constexpr std::uint64_t kMostValues = 1u << 20;  // per field; PCL's largest is 308
+        if (!parseCount(sizes[f], size) || !parseCount(counts[f], count) ||
+            (size != 1 && size != 2 && size != 4 && size != 8) || count == 0 || count > kMostValues)
           fail(at + "field " + fields[f] + " has a bad SIZE or COUNT");
         for (int a = 0; a < 3; ++a)
           if (fields[f] == std::string(1, "xyz"[a])) {

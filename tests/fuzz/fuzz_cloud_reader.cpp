@@ -1,10 +1,13 @@
-// libFuzzer target: the PLY and PCD readers as slipfit uses them (readCloud), on arbitrary bytes.
-// The first byte picks the extension. Either a cloud with finite coordinates comes back, or a
-// RunError; the reader must never crash or hand out a non-finite point.
+// libFuzzer target: the PLY and PCD readers as slipfit uses them (readCloud), and the row-range
+// reader (CloudStream), on arbitrary bytes. The first byte picks the extension. Either a cloud
+// with finite coordinates comes back, or a RunError; the readers must never crash, and readCloud
+// never hands out a non-finite point (CloudStream returns values as stored).
 #include "slipfit/pipeline/cloud_io.h"
+#include "slipfit/pipeline/cloud_stream.h"
 #include "slipfit/pipeline/errors.h"
 
 #include <unistd.h>
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
@@ -25,6 +28,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           std::abort();  // the reader promised finite coordinates
     } catch (const slipfit::pipeline::RunError&) {
     }
+  }
+  try {
+    slipfit::pipeline::CloudStream stream(path);
+    Eigen::Matrix3Xd xyz;
+    const std::uint64_t head = std::min<std::uint64_t>(stream.size(), 4096);
+    stream.read(0, head, xyz);
+    stream.read(head, std::min<std::uint64_t>(stream.size() - head, 16), xyz);
+  } catch (const slipfit::pipeline::RunError&) {
   }
   return 0;
 }
