@@ -3,8 +3,8 @@
 // points (3N doubles, what every estimator must read at least once).
 //
 //   build/bench/bench_fitting --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-#include "slipfit/sampling/primitive_sampler.h"
 #include "slipfit/fitting/weighted_fit.h"
+#include "slipfit/sampling/primitive_sampler.h"
 
 #include <benchmark/benchmark.h>
 

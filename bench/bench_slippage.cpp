@@ -7,9 +7,9 @@
 #include "pcl_normals_peer.h"
 #include "shapes.h"
 
-#include "slipfit/slippage/local_slippage.h"
 #include "slipfit/neighborhoods/neighborhood_selection.h"
 #include "slipfit/neighborhoods/precomputed_search.h"
+#include "slipfit/slippage/local_slippage.h"
 #include "slipfit/slippage/shape_classification.h"
 #include "slipfit/slippage/slippage.h"
 

@@ -3,8 +3,8 @@
 // the stitched OpenMesh mesh at 100², 316² and 1000² vertices.
 //
 //   build/bench/bench_torus --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-#include "slipfit/surfaces/torus_mesh.h"
 #include "slipfit/sampling/torus_sampler.h"
+#include "slipfit/surfaces/torus_mesh.h"
 
 #include <benchmark/benchmark.h>
 

@@ -6,9 +6,9 @@
 // calls ok must be finite.
 #include "slipfit/core/exceptions.h"
 #include "slipfit/fitting/primitives.h"
+#include "slipfit/fitting/weighted_fit.h"
 #include "slipfit/slippage/slippage.h"
 #include "slipfit/surfaces/torus.h"
-#include "slipfit/fitting/weighted_fit.h"
 
 #include <cmath>
 #include <cstdint>

@@ -1,8 +1,8 @@
 #include "slipfit/pipeline/options.h"
 #include "slipfit/pipeline/errors.h"
 
-#include "slipfit/neighborhoods/neighborhood_selection.h"
 #include "slipfit/fitting/primitives.h"
+#include "slipfit/neighborhoods/neighborhood_selection.h"
 
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>

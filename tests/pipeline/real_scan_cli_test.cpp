@@ -114,10 +114,11 @@ TEST_P(RealScanCli, DemoRunsWithoutNanAndItsLargestPlaneIsPclsRansacPlane) {
 // slipfit's plane 0.121° from that run and 0.106° from the mean of 100 runs on the points in 100
 // orders (one run lies up to 0.23° from that mean; the run in the file's order 0.16°); the table
 // segment holds 97.9 % of the run's inliers; 65 segments (184, and 92 %, before fragments of the
-// table were absorbed). The issues' 0.1° is not met, see tests/stages/segmentation/real_scan_test.cpp. The
-// office's largest plane is a wall 5 m away with depth steps of 5 cm: PCL's RANSAC plane there
-// turns with its threshold — 3.6° from slipfit's at 1–3 cm (one depth slice, z = 5.05), 1.05° at
-// 5 cm, 4.5° at 8 cm — so it is no oracle; the office checks the run and the outputs only.
+// table were absorbed). The issues' 0.1° is not met, see
+// tests/stages/segmentation/real_scan_test.cpp. The office's largest plane is a wall 5 m away with
+// depth steps of 5 cm: PCL's RANSAC plane there turns with its threshold — 3.6° from slipfit's at
+// 1–3 cm (one depth slice, z = 5.05), 1.05° at 5 cm, 4.5° at 8 cm — so it is no oracle; the office
+// checks the run and the outputs only.
 INSTANTIATE_TEST_SUITE_P(Scans, RealScanCli,
                          ::testing::Values(Scan{"milk_cartoon_all_small_clorox.pcd", 0.01},
                                            Scan{"office1.pcd", 0.0}),

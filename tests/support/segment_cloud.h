@@ -4,8 +4,8 @@
 
 #include "shared_neighborhoods.h"
 
-#include "slipfit/slippage/local_slippage.h"
 #include "slipfit/segmentation/segmentation.h"
+#include "slipfit/slippage/local_slippage.h"
 
 #include <memory>
 #include <vector>

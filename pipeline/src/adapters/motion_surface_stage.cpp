@@ -1,7 +1,7 @@
 #include "adapters.h"
 
-#include "slipfit/sampling/motion_surface_sampler.h"
 #include "slipfit/pipeline/errors.h"
+#include "slipfit/sampling/motion_surface_sampler.h"
 
 #include <ostream>
 

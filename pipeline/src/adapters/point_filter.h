@@ -3,9 +3,9 @@
 /// that selects points, runs on the input cloud (before a subsample stage) and keeps the points it
 /// selects, in their order, with every field; the others are absent from every output.
 
+#include "slipfit/filters/point_filters.h"
 #include "slipfit/pipeline/point_data.h"
 #include "slipfit/pipeline/stage.h"
-#include "slipfit/filters/point_filters.h"
 
 #include <string>
 #include <utility>
@@ -23,9 +23,9 @@ void requireInputCloud(const PointData& data);
 void keepFiltered(PointData& data, const FilterSelection& selection, RunContext& context,
                   const std::string& name);
 
-/// A stage that runs one filter of slipfit/filters/point_filters.h on the input cloud: its options are the
-/// filter's Parameters, and `select` runs the filter on the cloud (positions, when not empty: where
-/// the kept points move, in order).
+/// A stage that runs one filter of slipfit/filters/point_filters.h on the input cloud: its options
+/// are the filter's Parameters, and `select` runs the filter on the cloud (positions, when not
+/// empty: where the kept points move, in order).
 template <typename Parameters>
 class FilterStage : public Stage {
  public:

@@ -2,8 +2,8 @@
 
 #include "slipfit/core/angle_units.h"
 #include "slipfit/core/exceptions.h"
-#include "slipfit/fitting/model_selection.h"
 #include "slipfit/core/name_table.h"
+#include "slipfit/fitting/model_selection.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>

@@ -5,21 +5,21 @@
 // tests/pipeline/option_ranges_test.cpp checks that the values at the bounds pass.
 
 #include "slipfit/core/parameter_declaration.h"
+#include "slipfit/filters/point_filters.h"
+#include "slipfit/filters/subsampling.h"
 #include "slipfit/fitting/labelled_fit.h"
-#include "slipfit/sampling/labelled_scene.h"
-#include "slipfit/sampling/motion_surface_sampler.h"
+#include "slipfit/fitting/robust_fit.h"
+#include "slipfit/fitting/weighted_fit.h"
 #include "slipfit/neighborhoods/neighborhood_selection.h"
 #include "slipfit/neighborhoods/normal_estimation.h"
-#include "slipfit/filters/point_filters.h"
+#include "slipfit/render/splat_renderer.h"
+#include "slipfit/sampling/labelled_scene.h"
+#include "slipfit/sampling/motion_surface_sampler.h"
 #include "slipfit/sampling/primitive_sampler.h"
-#include "slipfit/fitting/robust_fit.h"
+#include "slipfit/sampling/torus_sampler.h"
 #include "slipfit/segmentation/segmentation.h"
 #include "slipfit/slippage/slippage.h"
-#include "slipfit/render/splat_renderer.h"
-#include "slipfit/filters/subsampling.h"
 #include "slipfit/surfaces/torus_mesh.h"
-#include "slipfit/sampling/torus_sampler.h"
-#include "slipfit/fitting/weighted_fit.h"
 
 #include <gtest/gtest.h>
 

@@ -7,8 +7,8 @@
 #include "ransac_plane_oracle.h"
 #include "segment_cloud.h"
 
-#include "slipfit/neighborhoods/depth_quantization.h"
 #include "slipfit/fitting/primitives.h"
+#include "slipfit/neighborhoods/depth_quantization.h"
 
 #include <gtest/gtest.h>
 #include <pcl/filters/filter.h>

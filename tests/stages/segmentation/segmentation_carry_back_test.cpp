@@ -7,9 +7,9 @@
 #include "shared_neighborhoods.h"
 
 #include "slipfit/core/cloud_maps.h"
-#include "slipfit/slippage/local_slippage.h"
-#include "slipfit/sampling/primitive_sampler.h"
 #include "slipfit/filters/subsampling.h"
+#include "slipfit/sampling/primitive_sampler.h"
+#include "slipfit/slippage/local_slippage.h"
 
 #include <gtest/gtest.h>
 

@@ -3,8 +3,8 @@
 /// issue (id, type, the parameters by name, inliers, rms_distance, max_distance, status); later
 /// stages add fields, never rename these.
 
-#include "slipfit/slippage/slippage.h"
 #include "slipfit/fitting/weighted_fit.h"
+#include "slipfit/slippage/slippage.h"
 
 #include <map>
 #include <optional>

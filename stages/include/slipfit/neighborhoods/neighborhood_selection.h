@@ -2,8 +2,8 @@
 /// \file Neighborhood selection: kNN, radius, hybrid and adaptive (eigen-entropy) neighborhoods of
 /// every point, through one kd-tree build and one neighbor search per point.
 
-#include "slipfit/neighborhoods/neighborhoods.h"
 #include "slipfit/core/parameter_declaration.h"
+#include "slipfit/neighborhoods/neighborhoods.h"
 
 #include <pcl/pcl_base.h>
 #include <pcl/search/search.h>

@@ -2,9 +2,9 @@
 /// \file Normal estimation: pcl::NormalEstimationOMP on shared neighborhoods (or its own k/radius
 /// search), followed by the chosen orientation.
 
+#include "slipfit/core/parameter_declaration.h"
 #include "slipfit/neighborhoods/neighborhoods.h"
 #include "slipfit/neighborhoods/normal_orientation.h"
-#include "slipfit/core/parameter_declaration.h"
 
 #include <pcl/pcl_base.h>
 #include <pcl/search/search.h>

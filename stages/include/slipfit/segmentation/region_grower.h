@@ -3,8 +3,8 @@
 /// region's own fit: a point joins when it lies within its distance tolerance of the primitive and
 /// its normal within the angle tolerance of the primitive's there. Used by SegmentationKernel.
 
-#include "slipfit/neighborhoods/neighborhoods.h"
 #include "slipfit/fitting/weighted_fit.h"
+#include "slipfit/neighborhoods/neighborhoods.h"
 
 #include <Eigen/Core>
 

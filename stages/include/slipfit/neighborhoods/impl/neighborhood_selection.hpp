@@ -1,8 +1,8 @@
 #pragma once
 
+#include "slipfit/core/exceptions.h"
 #include "slipfit/neighborhoods/depth_quantization.h"
 #include "slipfit/neighborhoods/eigen_entropy.h"
-#include "slipfit/core/exceptions.h"
 #include "slipfit/neighborhoods/neighborhood_selection.h"
 
 #include <pcl/common/point_tests.h>
