@@ -2,9 +2,12 @@
 
 #include "slipfit/pipeline/errors.h"
 
+#include "header_guard.h"
+
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -12,16 +15,8 @@ namespace slipfit::pipeline {
 
 namespace {
 
-/// Bytes of a PLY scalar type; 0 for an unknown name.
 int plyTypeBytes(const std::string& type) {
-  static const std::pair<const char*, int> kTypes[] = {
-      {"char", 1},   {"int8", 1},    {"uchar", 1},  {"uint8", 1},  {"short", 2}, {"int16", 2},
-      {"ushort", 2}, {"uint16", 2},  {"int", 4},    {"int32", 4},  {"uint", 4},  {"uint32", 4},
-      {"float", 4},  {"float32", 4}, {"double", 8}, {"float64", 8}};
-  for (const auto& [name, bytes] : kTypes)
-    if (type == name)
-      return bytes;
-  return 0;
+  return static_cast<int>(detail::plyTypeSize(type));
 }
 
 bool isFloatType(const std::string& type) {
@@ -36,11 +31,9 @@ std::vector<std::string> words(const std::string& line) {
   return out;
 }
 
+/// A plain decimal count (header_guard.h's parser, any size).
 bool parseCount(const std::string& text, std::uint64_t& value) {
-  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
-    return false;
-  value = std::strtoull(text.c_str(), nullptr, 10);
-  return true;
+  return detail::parseCount(text, std::numeric_limits<std::uint64_t>::max(), value);
 }
 
 }  // namespace
@@ -145,7 +138,10 @@ void CloudStream::parsePly() {
         record_bytes_ += static_cast<std::uint64_t>(bytes);
         ++property;
       } else if (!seen_vertex) {
-        skip_bytes += element_count * static_cast<std::uint64_t>(bytes);
+        const auto b = static_cast<std::uint64_t>(bytes);
+        if (element_count > (std::numeric_limits<std::uint64_t>::max() - skip_bytes) / b)
+          fail(at + "the elements before the vertices exceed any file");
+        skip_bytes += element_count * b;
       }
     } else if (w[0] == "end_header") {
       if (!seen_vertex)

@@ -15,7 +15,7 @@ namespace slipfit::pipeline::detail {
 namespace {
 
 using Field = pcl::PCLPointField;
-using u64 = unsigned long long;
+using u64 = std::uint64_t;
 
 constexpr std::size_t kMaxHeaderBytes = 1 << 20;
 
@@ -61,15 +61,6 @@ std::vector<std::string> splitKeepingEnds(const std::string& line, const char* s
   }
 }
 
-/// A plain decimal number (no sign, no exponent, no trailing text) no larger than \a max.
-bool parseCount(const std::string& text, u64 max, u64& value) {
-  if (text.empty() || text.size() > 19 ||
-      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
-    return false;
-  value = std::stoull(text);
-  return value <= max;
-}
-
 u64 saturatingAdd(u64 a, u64 b) {
   return a > std::numeric_limits<u64>::max() - b ? std::numeric_limits<u64>::max() : a + b;
 }
@@ -80,16 +71,6 @@ u64 saturatingMul(u64 a, u64 b) {
 }
 
 // ---------------------------------------------------------------------------------------- PLY
-
-/// Byte size of a PLY scalar type name (both spellings), 0 when unknown.
-std::size_t plyTypeSize(const std::string& t) {
-  static const std::map<std::string, std::size_t> kSizes = {
-      {"char", 1},   {"int8", 1},    {"uchar", 1},  {"uint8", 1},  {"short", 2}, {"int16", 2},
-      {"ushort", 2}, {"uint16", 2},  {"int", 4},    {"int32", 4},  {"uint", 4},  {"uint32", 4},
-      {"float", 4},  {"float32", 4}, {"double", 8}, {"float64", 8}};
-  const auto it = kSizes.find(t);
-  return it == kSizes.end() ? 0 : it->second;
-}
 
 bool isUnsignedCountType(const std::string& t) {
   return t == "uchar" || t == "uint8" || t == "ushort" || t == "uint16" || t == "uint" ||
@@ -138,6 +119,23 @@ void checkVertexColours(const PlyElement& vertex, const std::string& where) {
 }
 
 }  // namespace
+
+bool parseCount(const std::string& text, std::uint64_t max, std::uint64_t& value) {
+  if (text.empty() || text.size() > 19 ||
+      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return false;
+  value = std::stoull(text);
+  return value <= max;
+}
+
+std::size_t plyTypeSize(const std::string& t) {
+  static const std::map<std::string, std::size_t> kSizes = {
+      {"char", 1},   {"int8", 1},    {"uchar", 1},  {"uint8", 1},  {"short", 2}, {"int16", 2},
+      {"ushort", 2}, {"uint16", 2},  {"int", 4},    {"int32", 4},  {"uint", 4},  {"uint32", 4},
+      {"float", 4},  {"float32", 4}, {"double", 8}, {"float64", 8}};
+  const auto it = kSizes.find(t);
+  return it == kSizes.end() ? 0 : it->second;
+}
 
 void checkPlyHeader(const std::string& path, const std::string& where) {
   u64 file_size = 0;

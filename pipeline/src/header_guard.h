@@ -24,6 +24,12 @@ void checkPlyHeader(const std::string& path, const std::string& where);
 /// and whose SIZE, TYPE or COUNT values PCL would turn into a broken record layout.
 void checkPcdHeaderText(const std::string& path, const std::string& where);
 
+/// A plain decimal number (no sign, no exponent, no trailing text) no larger than \a max.
+bool parseCount(const std::string& text, std::uint64_t max, std::uint64_t& value);
+
+/// Byte size of a PLY scalar type name (both spellings), 0 when unknown.
+std::size_t plyTypeSize(const std::string& type);
+
 /// Bytes of one value of a PCLPointField datatype; 0 for a type PCL 1.13 does not know.
 std::size_t fieldTypeSize(std::uint8_t datatype);
 
