@@ -5,6 +5,7 @@
 #include "header_guard.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -29,6 +30,89 @@ std::vector<std::string> words(const std::string& line) {
   for (std::string w; s >> w;)
     out.push_back(w);
   return out;
+}
+
+/// The PLY type name of either spelling in its short form (float32 -> float, ...).
+std::string canonicalType(const std::string& type) {
+  static const std::pair<const char*, const char*> kLong[] = {
+      {"int8", "char"},   {"uint8", "uchar"}, {"int16", "short"},   {"uint16", "ushort"},
+      {"int32", "int"},   {"uint32", "uint"}, {"float32", "float"}, {"float64", "double"}};
+  for (const auto& [from, to] : kLong)
+    if (type == from)
+      return to;
+  return type;
+}
+
+/// The PLY type of a PCD field of TYPE \a type and SIZE \a size ("" when PCL has none).
+std::string pcdFieldType(const std::string& type, std::uint64_t size) {
+  if (type == "F")
+    return size == 4 ? "float" : size == 8 ? "double" : "";
+  const bool is_signed = type == "I";
+  if (!is_signed && type != "U")
+    return "";
+  switch (size) {
+    case 1: return is_signed ? "char" : "uchar";
+    case 2: return is_signed ? "short" : "ushort";
+    case 4: return is_signed ? "int" : "uint";
+    case 8: return is_signed ? "int64" : "uint64";
+    default: return "";
+  }
+}
+
+/// Writes the text \a text as one value of PLY type \a type at \a out (little-endian); false
+/// when it is not a number of that type.
+bool packValue(const std::string& type, const std::string& text, char* out) {
+  char* end = nullptr;
+  if (type == "float" || type == "double") {
+    const double v = std::strtod(text.c_str(), &end);
+    if (end != text.c_str() + text.size() || text.empty())
+      return false;
+    if (type == "float") {
+      const auto f = static_cast<float>(v);
+      std::memcpy(out, &f, 4);
+    } else {
+      std::memcpy(out, &v, 8);
+    }
+    return true;
+  }
+  errno = 0;
+  const bool is_signed = type == "char" || type == "short" || type == "int" || type == "int64";
+  if (is_signed) {
+    const long long v = std::strtoll(text.c_str(), &end, 10);
+    if (end != text.c_str() + text.size() || text.empty() || errno)
+      return false;
+    auto put = [&](auto value) {
+      if (static_cast<long long>(value) != v)
+        return false;
+      std::memcpy(out, &value, sizeof value);
+      return true;
+    };
+    if (type == "char")
+      return put(static_cast<std::int8_t>(v));
+    if (type == "short")
+      return put(static_cast<std::int16_t>(v));
+    if (type == "int")
+      return put(static_cast<std::int32_t>(v));
+    return put(static_cast<std::int64_t>(v));
+  }
+  if (text.empty() || text[0] == '-')
+    return false;
+  const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
+  if (end != text.c_str() + text.size() || errno)
+    return false;
+  auto put = [&](auto value) {
+    if (static_cast<unsigned long long>(value) != v)
+      return false;
+    std::memcpy(out, &value, sizeof value);
+    return true;
+  };
+  if (type == "uchar")
+    return put(static_cast<std::uint8_t>(v));
+  if (type == "ushort")
+    return put(static_cast<std::uint16_t>(v));
+  if (type == "uint")
+    return put(static_cast<std::uint32_t>(v));
+  return put(static_cast<std::uint64_t>(v));
 }
 
 /// A plain decimal count (header_guard.h's parser, any size).
@@ -68,6 +152,11 @@ CloudStream::CloudStream(const std::string& path) : path_(path), in_(path, std::
 
 void CloudStream::fail(const std::string& what) const {
   throw RunError("'" + path_ + "': " + what);
+}
+
+void CloudStream::addField(const std::string& name, const std::string& type, std::uint32_t bytes) {
+  fields_.push_back({name, type, bytes, record_bytes_});
+  record_bytes_ += bytes;
 }
 
 bool CloudStream::headerLine(std::string& line, std::vector<std::string>& w, int& number) {
@@ -135,7 +224,7 @@ void CloudStream::parsePly() {
             offset_[a] = record_bytes_;
             column_[a] = property;
           }
-        record_bytes_ += static_cast<std::uint64_t>(bytes);
+        addField(w[2], canonicalType(w[1]), static_cast<std::uint32_t>(bytes));
         ++property;
       } else if (!seen_vertex) {
         const auto b = static_cast<std::uint64_t>(bytes);
@@ -221,7 +310,12 @@ void CloudStream::parsePcd() {
             offset_[a] = record_bytes_;
             column_[a] = column;
           }
-        record_bytes_ += size * count;
+        const std::string type = pcdFieldType(types[f], size);
+        if (type.empty())
+          fail(at + "field " + fields[f] + " has TYPE " + types[f] + " of SIZE " + sizes[f]);
+        for (std::uint64_t k = 0; k < count; ++k)
+          addField(count == 1 ? fields[f] : fields[f] + "_" + std::to_string(k), type,
+                   static_cast<std::uint32_t>(size));
         column += static_cast<int>(count);
       }
       if (column_[0] < 0 || column_[1] < 0 || column_[2] < 0)
@@ -238,44 +332,58 @@ void CloudStream::parsePcd() {
   fail("the header has no DATA line");
 }
 
-double CloudStream::binaryValue(const char* record, int axis) const {
-  unsigned char bytes[8];
-  std::memcpy(bytes, record + offset_[axis], static_cast<std::size_t>(coordinate_bytes_));
-  if (encoding_ == Encoding::big_endian)
-    std::reverse(bytes, bytes + coordinate_bytes_);
-  if (coordinate_bytes_ == 8) {
-    double v;
-    std::memcpy(&v, bytes, 8);
-    return v;
-  }
-  float v;
-  std::memcpy(&v, bytes, 4);
-  return static_cast<double>(v);
-}
-
-void CloudStream::read(std::uint64_t first, std::uint64_t count, Eigen::Matrix3Xd& xyz) {
+void CloudStream::checkRange(std::uint64_t first, std::uint64_t count) const {
   if (first > points_ || count > points_ - first)
     fail("rows " + std::to_string(first) + " to " + std::to_string(first + count) +
          " pass the end (" + std::to_string(points_) + " points)");
+}
+
+void CloudStream::read(std::uint64_t first, std::uint64_t count, Eigen::Matrix3Xd& xyz) {
+  checkRange(first, count);
   xyz.resize(3, static_cast<Eigen::Index>(count));
-  if (encoding_ != Encoding::ascii) {
-    constexpr std::uint64_t kRowsPerChunk = 1u << 16;
-    std::vector<char> buffer;
-    in_.clear();
-    in_.seekg(static_cast<std::streamoff>(data_offset_ + first * record_bytes_));
-    for (std::uint64_t done = 0; done < count;) {
-      const std::uint64_t rows = std::min(kRowsPerChunk, count - done);
-      buffer.resize(rows * record_bytes_);
-      if (!in_.read(buffer.data(), static_cast<std::streamsize>(buffer.size())))
-        fail("the file ends before row " + std::to_string(first + count));
-      for (std::uint64_t r = 0; r < rows; ++r)
-        for (int a = 0; a < 3; ++a)
-          xyz(a, static_cast<Eigen::Index>(done + r)) =
-              binaryValue(buffer.data() + r * record_bytes_, a);
-      done += rows;
-    }
+  constexpr std::uint64_t kRowsPerChunk = 1u << 16;
+  std::vector<char> rows;
+  for (std::uint64_t done = 0; done < count;) {
+    const std::uint64_t n = std::min(kRowsPerChunk, count - done);
+    readRecords(first + done, n, rows);
+    for (std::uint64_t r = 0; r < n; ++r)
+      for (int a = 0; a < 3; ++a) {
+        const char* value = rows.data() + r * record_bytes_ + offset_[a];
+        double v;
+        if (coordinate_bytes_ == 8) {
+          std::memcpy(&v, value, 8);
+        } else {
+          float f;
+          std::memcpy(&f, value, 4);
+          v = static_cast<double>(f);
+        }
+        xyz(a, static_cast<Eigen::Index>(done + r)) = v;
+      }
+    done += n;
+  }
+}
+
+void CloudStream::readRecords(std::uint64_t first, std::uint64_t count, std::vector<char>& rows) {
+  checkRange(first, count);
+  rows.resize(count * record_bytes_);
+  if (encoding_ == Encoding::ascii) {
+    readAsciiRecords(first, count, rows);
     return;
   }
+  in_.clear();
+  in_.seekg(static_cast<std::streamoff>(data_offset_ + first * record_bytes_));
+  if (!in_.read(rows.data(), static_cast<std::streamsize>(rows.size())))
+    fail("the file ends before row " + std::to_string(first + count));
+  if (encoding_ == Encoding::big_endian)
+    for (std::uint64_t r = 0; r < count; ++r)
+      for (const StreamField& f : fields_) {
+        char* value = rows.data() + r * record_bytes_ + f.offset;
+        std::reverse(value, value + f.bytes);
+      }
+}
+
+void CloudStream::readAsciiRecords(std::uint64_t first, std::uint64_t count,
+                                   std::vector<char>& rows) {
   if (first < next_row_)
     fail("ascii rows are read in order: row " + std::to_string(first) + " comes after row " +
          std::to_string(next_row_));
@@ -293,18 +401,13 @@ void CloudStream::read(std::uint64_t first, std::uint64_t count, Eigen::Matrix3X
     if (!std::getline(in_, line))
       fail("the file ends before row " + std::to_string(first + count));
     const std::vector<std::string> w = words(line);
-    if (static_cast<int>(w.size()) < columns_)
+    if (w.size() < fields_.size())
       fail("row " + std::to_string(next_row_) + " has " + std::to_string(w.size()) +
            " values, the header announces " + std::to_string(columns_));
-    for (int a = 0; a < 3; ++a) {
-      const std::string& text = w[static_cast<std::size_t>(column_[a])];
-      char* end = nullptr;
-      const double v = std::strtod(text.c_str(), &end);
-      if (end != text.c_str() + text.size())
-        fail("row " + std::to_string(next_row_) + ": '" + text + "' is not a number");
-      xyz(a, static_cast<Eigen::Index>(r)) =
-          coordinate_bytes_ == 4 ? static_cast<double>(static_cast<float>(v)) : v;
-    }
+    for (std::size_t f = 0; f < fields_.size(); ++f)
+      if (!packValue(fields_[f].type, w[f], rows.data() + r * record_bytes_ + fields_[f].offset))
+        fail("row " + std::to_string(next_row_) + ": '" + w[f] + "' is not a " +
+             fields_[f].type + " (" + fields_[f].name + ")");
   }
 }
 

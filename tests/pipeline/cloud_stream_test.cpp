@@ -11,6 +11,7 @@
 #include <pcl/io/ply_io.h>
 #include <pcl/point_types.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <random>
@@ -69,6 +70,22 @@ TEST(CloudStream, RowRangesEqualPclsWholeRead) {
     EXPECT_EQ(s.size(), 5000u) << c.name;
     EXPECT_FALSE(s.doubleCoordinates());
     expectRows(s, loaded, 0, 1);
+    // Whole rows: every field of PCL's point type, each at its place in a little-endian row.
+    std::vector<char> rows;
+    s.readRecords(1, 2, rows);
+    ASSERT_EQ(rows.size(), 2 * s.recordBytes());
+    for (const std::string name : {c.ply ? "nx" : "normal_x", "curvature"}) {
+      const auto f = std::find_if(s.fields().begin(), s.fields().end(),
+                                  [&](const StreamField& x) { return x.name == name; });
+      ASSERT_NE(f, s.fields().end()) << c.name << " " << name;
+      ASSERT_EQ(f->type, "float");
+      float v[2];
+      for (int r = 0; r < 2; ++r)
+        std::memcpy(&v[r], rows.data() + r * s.recordBytes() + f->offset, 4);
+      const float expected = name == "curvature" ? 0.0f : 1.0f;
+      EXPECT_EQ(v[0], expected) << c.name << " " << name;
+      EXPECT_EQ(v[1], expected) << c.name << " " << name;
+    }
     expectRows(s, loaded, 10, 990);
     expectRows(s, loaded, 2500, 2500);
     if (c.binary) {  // binary files seek: any order
@@ -108,6 +125,19 @@ TEST(CloudStream, BigEndianDoublesKeepTheirPrecision) {
   for (int r = 0; r < 2; ++r)
     for (int a = 0; a < 3; ++a)
       EXPECT_EQ(xyz(a, r), values[r + 1][a]);
+  // Whole rows come back little-endian: the doubles and the intensity after them.
+  ASSERT_EQ(s.fields().size(), 4u);
+  EXPECT_EQ(s.fields()[3].name, "intensity");
+  EXPECT_EQ(s.fields()[3].type, "uchar");
+  std::vector<char> rows;
+  s.readRecords(0, 3, rows);
+  ASSERT_EQ(rows.size(), 3u * 25u);
+  for (int r = 0; r < 3; ++r) {
+    double y;
+    std::memcpy(&y, rows.data() + r * 25 + 8, 8);
+    EXPECT_EQ(y, values[r][1]);
+    EXPECT_EQ(static_cast<unsigned char>(rows[static_cast<std::size_t>(r) * 25 + 24]), 200u);
+  }
 }
 
 TEST(CloudStream, RefusesWhatItCannotReadByRows) {

@@ -13,6 +13,16 @@
 
 namespace slipfit::pipeline {
 
+/// One scalar property of a streamed row: its PLY type name (char, uchar, short, ushort, int,
+/// uint, float, double; a PCD field of 8-byte integers is int64/uint64) and its place in the
+/// little-endian row that readRecords returns. A PCD field of COUNT k becomes k fields NAME_0 ...
+struct StreamField {
+  std::string name;
+  std::string type;
+  std::uint32_t bytes = 0;
+  std::uint64_t offset = 0;
+};
+
 class CloudStream {
  public:
   /// Opens \a path (.ply or .pcd) and reads its header. Throws RunError naming the file and the
@@ -24,6 +34,15 @@ class CloudStream {
   std::uint64_t size() const { return points_; }
   /// The file stores x, y, z as double.
   bool doubleCoordinates() const { return coordinate_bytes_ == 8; }
+  /// Every property of a row, in the file's order.
+  const std::vector<StreamField>& fields() const { return fields_; }
+  /// Bytes of one row as readRecords returns it (the sum of the fields' bytes).
+  std::uint64_t recordBytes() const { return record_bytes_; }
+
+  /// Reads rows [first, first + count) whole, as count × recordBytes() bytes in little-endian
+  /// order (binary files as stored, big-endian ones swapped; ascii text converted to each
+  /// field's type). The same errors as read().
+  void readRecords(std::uint64_t first, std::uint64_t count, std::vector<char>& rows);
 
   /// Reads points [first, first + count) as 3 × count doubles (as stored: a float widens
   /// exactly). Throws RunError when the range passes the end, when the file ends early or a value
@@ -37,7 +56,9 @@ class CloudStream {
   void parsePly();
   void parsePcd();
   [[noreturn]] void fail(const std::string& what) const;
-  double binaryValue(const char* record, int axis) const;
+  void addField(const std::string& name, const std::string& type, std::uint32_t bytes);
+  void checkRange(std::uint64_t first, std::uint64_t count) const;
+  void readAsciiRecords(std::uint64_t first, std::uint64_t count, std::vector<char>& rows);
 
   std::string path_;
   std::ifstream in_;
@@ -46,7 +67,8 @@ class CloudStream {
   std::uint64_t data_offset_ = 0;         ///< byte where the points' rows start
   std::uint64_t record_bytes_ = 0;        ///< binary: bytes per row
   std::uint64_t offset_[3] = {0, 0, 0};   ///< binary: byte of x, y, z in a row
-  int column_[3] = {-1, -1, -1};          ///< ascii: token of x, y, z in a row
+  int column_[3] = {-1, -1, -1};          ///< token (= field) of x, y, z in a row
+  std::vector<StreamField> fields_;
   int coordinate_bytes_ = 4;              ///< 4 (float) or 8 (double), the same for x, y and z
   int columns_ = 0;                       ///< ascii: tokens per row
   std::uint64_t next_row_ = 0;            ///< ascii: the row the stream stands at
