@@ -4,8 +4,9 @@
 //
 //   score_segmentation TRUTH.ply RESULT_DIR
 //
-// TRUTH.ply carries the field truth_label; RESULT_DIR holds segments.ply (fields label and
-// primitive) and primitives.yaml — slipfit's segmentation stage and bench/cgal_ransac both write
+// TRUTH.ply carries the field truth_label (and truth_type); RESULT_DIR holds segments.ply (fields
+// label and primitive, and the truth's fields when the tool carried them through: then those are
+// used, in the result's point order) and primitives.yaml — slipfit's segmentation stage and bench/cgal_ransac both write
 // them. Prints one line of key=value pairs.
 #include "slipfit/core/angle_units.h"
 #include "slipfit/sampling/scene_sampler.h"
@@ -58,9 +59,18 @@ int main(int argc, char** argv) try {
     return 2;
   }
   const std::string dir = argv[2];
-  const std::vector<std::int32_t> truth = intField(argv[1], "truth_label");
   const std::vector<std::int32_t> label = intField(dir + "/segments.ply", "label");
   const std::vector<std::int32_t> type = intField(dir + "/segments.ply", "primitive");
+  // The result's own copy of the truth when it carries one (slipfit's outputs carry the input's
+  // fields; a tiled run writes the points tile after tile, not in the input's order).
+  std::vector<std::int32_t> truth;
+  std::string truth_file = argv[1];
+  try {
+    truth = intField(dir + "/segments.ply", "truth_label");
+    truth_file = dir + "/segments.ply";
+  } catch (const std::runtime_error&) {
+    truth = intField(argv[1], "truth_label");
+  }
   if (truth.size() != label.size())
     throw std::runtime_error("the truth and the result differ in point count");
 
@@ -70,7 +80,7 @@ int main(int argc, char** argv) try {
   std::vector<int> truth_types;
   bool random_scene = false;
   try {
-    const std::vector<std::int32_t> ttype = intField(argv[1], "truth_type");
+    const std::vector<std::int32_t> ttype = intField(truth_file, "truth_type");
     random_scene = true;
     for (std::size_t i = 0; i < truth.size(); ++i)
       if (truth[i] >= 0) {

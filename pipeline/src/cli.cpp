@@ -6,6 +6,7 @@
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/registry.h"
 #include "slipfit/pipeline/runner.h"
+#include "slipfit/pipeline/tiled_run.h"
 
 #include <pcl/console/print.h>
 #include <pcl/exceptions.h>
@@ -140,7 +141,10 @@ int dispatch(const std::vector<std::string>& args, std::ostream& out) {
     PipelineConfig config = loadConfig(parsed.config, parsed.overrides);
     RunOptions options;
     options.quiet = parsed.quiet;
-    runPipeline(config, options, out);
+    if (config.tiling.enabled())
+      runTiled(config, parsed.overrides, options, out);
+    else
+      runPipeline(config, options, out);
     return kSuccess;
   }
   throw ConfigError("unknown command '" + command + "'; commands: run, validate, stages, describe");

@@ -34,6 +34,23 @@ void OutputSection::declare(OptionSet& o) {
       .fileName();
 }
 
+void TilingSection::declare(OptionSet& o) {
+  o.add("size", size,
+        "Edge of a tile's core in the cloud's units: the cloud is streamed into square tiles of "
+        "the x-y plane, each run through the stages on its own and the segments joined across "
+        "tiles (docs/TILING.md); 0: one untiled run.")
+      .range(0.0, 1e300);
+  o.add("buffer", buffer,
+        "Width of the band around each core that the tile also reads, where segments of "
+        "neighbouring tiles are matched; at least a few neighbourhood radii, under size / 2 "
+        "(0: a tenth of size).")
+      .range(0.0, 1e300);
+  o.add("workdir", workdir,
+        "Directory of the tiles and the per-tile results (kept for a rerun to resume; empty: "
+        "<output.dir>/tiles).")
+      .allowEmpty();
+}
+
 void RunSettings::declare(OptionSet& o) {
   o.add("threads", threads, "Worker threads for parallel stages; 0 uses every core.")
       .range(0, 1024);
@@ -43,7 +60,7 @@ void RunSettings::declare(OptionSet& o) {
 namespace {
 
 /// The sections of a config; every other top-level key is an option of RunSettings.
-const std::set<std::string> kSections = {"input", "stages", "output"};
+const std::set<std::string> kSections = {"input", "stages", "output", "tiling"};
 
 /// RunSettings' options, for their names (bound to a settings object of their own).
 const OptionSet& settingsOptions() {
@@ -86,7 +103,7 @@ class Loader {
       const std::string key = kv.first.Scalar();
       if (!kSections.count(key) && !settingsOptions().find(key))
         fail(at(kv.first.Mark()) + "unknown top-level key '" + key +
-             "'; valid keys: input, stages, output, " + settingsOptions().namesText());
+             "'; valid keys: input, stages, output, tiling, " + settingsOptions().namesText());
     }
     {
       OptionSet options;
@@ -98,6 +115,11 @@ class Loader {
       parseSection(root["input"], "input", [&](OptionSet& o) { config.input.declare(o); });
     if (root["output"])
       parseSection(root["output"], "output", [&](OptionSet& o) { config.output.declare(o); });
+    if (root["tiling"])
+      parseSection(root["tiling"], "tiling", [&](OptionSet& o) { config.tiling.declare(o); });
+    if (config.tiling.enabled() && config.tiling.bufferWidth() >= 0.5 * config.tiling.size)
+      fail(keyPlace("tiling", "buffer", root["tiling"]["buffer"].Mark()) +
+           "section 'tiling': buffer must be under size / 2");
     const YAML::Node stages = root["stages"];
     if (!stages)
       fail(path_ + ": missing 'stages' list");
@@ -169,7 +191,8 @@ class Loader {
         std::string names;
         for (const auto& o : settingsOptions().all())
           names += (names.empty() ? "" : " / ") + o->name();
-        fail("--set " + text + ": expected SECTION.KEY (input.path, output.dir, TAG.OPTION) or " +
+        fail("--set " + text +
+             ": expected SECTION.KEY (input.path, output.dir, tiling.size, TAG.OPTION) or " +
              names);
       }
       root_[key] = value;
@@ -180,7 +203,7 @@ class Loader {
     if (option.empty() || option.find('.') != std::string::npos)
       fail("--set " + text + ": expected SECTION.KEY with one dot");
     overrides_[section + "." + option] = text;
-    if (section == "input" || section == "output") {
+    if (section == "input" || section == "output" || section == "tiling") {
       if (!root_[section])
         root_[section] = YAML::Node(YAML::NodeType::Map);
       root_[section][option] = value;
@@ -196,7 +219,7 @@ class Loader {
       }
     }
     fail("--set " + text + ": no stage is tagged '" + section +
-         "'; tags: " + (tags.empty() ? "none" : tags) + " (and the sections input, output)");
+         "'; tags: " + (tags.empty() ? "none" : tags) + " (and the sections input, output, tiling)");
   }
 
   static std::string stageTag(const YAML::Node& node) {

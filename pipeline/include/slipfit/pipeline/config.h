@@ -36,6 +36,16 @@ struct OutputSection {
   void declare(OptionSet& options);
 };
 
+/// The `tiling:` section: an out-of-core run in tiles (docs/TILING.md). Off while size is 0.
+struct TilingSection {
+  double size = 0.0;    ///< edge of a tile's core in the cloud's units (x-y plane); 0: untiled
+  double buffer = 0.0;  ///< width of the band each tile also reads; 0: a tenth of size
+  std::string workdir;  ///< tiles and per-tile results; "": <output.dir>/tiles
+  void declare(OptionSet& options);
+  bool enabled() const { return size > 0.0; }
+  double bufferWidth() const { return buffer > 0.0 ? buffer : 0.1 * size; }
+};
+
 /// Top-level settings besides the sections.
 struct RunSettings {
   int threads = 0;
@@ -54,6 +64,7 @@ struct PipelineConfig {
   std::string path;
   InputSection input;
   OutputSection output;
+  TilingSection tiling;
   RunSettings settings;
   std::vector<ConfiguredStage> stages;
 };

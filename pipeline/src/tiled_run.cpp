@@ -1,0 +1,253 @@
+#include "slipfit/pipeline/tiled_run.h"
+
+#include "slipfit/pipeline/errors.h"
+#include "slipfit/pipeline/output_files.h"
+#include "slipfit/pipeline/progress.h"
+
+#include "tiling/tile_job.h"
+#include "tiling/tile_merge.h"
+#include "tiling/tiler.h"
+#include "tiling/work_distribution.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+namespace slipfit::pipeline {
+
+namespace fs = std::filesystem;
+using namespace tiling;
+
+namespace {
+
+class NullBuffer : public std::streambuf {
+ protected:
+  int overflow(int c) override { return c; }
+};
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Writes \a text to \a path through a temporary file and a rename.
+void writeAtomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out)
+      throw RunError("'" + tmp + "': write failed (disk full?)");
+  }
+  fs::rename(tmp, path);
+}
+
+/// The segmentation stage the tiles end with; ConfigError when the pipeline cannot be tiled.
+const ConfiguredStage& tiledSegmentation(const PipelineConfig& config) {
+  const std::string why = config.path + ": section 'tiling': ";
+  if (config.input.path.empty())
+    throw ConfigError(why + "a tiled run reads an input cloud; this config has none");
+  if (config.stages.empty() || config.stages.back().type != "segmentation")
+    throw ConfigError(why + "a tiled run ends with a segmentation stage (its segments are " +
+                      "joined across tiles); the last stage here is '" +
+                      (config.stages.empty() ? "none" : config.stages.back().type) + "'");
+  if (!config.output.cloud.empty())
+    throw ConfigError(why + "output.cloud is not written by a tiled run; set it to ''");
+  return config.stages.back();
+}
+
+/// A subsample stage's `points` is a budget for the whole cloud: each tile gets its share (at
+/// least the option's lowest value, 100), so that a tile is analysed at the density the untiled
+/// run would have (the same leaf, for a cloud of even density). A `leaf`, when given, overrides
+/// points in every tile as it does untiled. Returns the overrides "TAG.points=N".
+std::vector<std::string> analysisBudgets(const PipelineConfig& config, std::uint64_t tile_points,
+                                         std::uint64_t cloud_points) {
+  std::vector<std::string> budgets;
+  for (const ConfiguredStage& s : config.stages) {
+    if (s.type != "subsample")
+      continue;
+    OptionSet options;  // declared anew: the option's value is the configured one
+    s.stage->declare(options);
+    const Option* points = options.find("points");
+    if (!points)
+      continue;
+    const double whole = std::stod(points->defaultText());
+    const double share = whole * static_cast<double>(tile_points) /
+                         static_cast<double>(std::max<std::uint64_t>(cloud_points, 1));
+    budgets.push_back(s.tag + ".points=" +
+                      std::to_string(static_cast<std::uint64_t>(std::max(100.0, std::ceil(share)))));
+  }
+  return budgets;
+}
+
+/// The work directory, checked to be empty or a tiling's own (its manifest.yaml).
+std::string workDirectory(const PipelineConfig& config) {
+  const std::string dir =
+      config.tiling.workdir.empty() ? config.output.dir + "/tiles" : config.tiling.workdir;
+  if (fs::exists(dir)) {
+    if (!fs::is_directory(dir))
+      throw RunError("tiling.workdir '" + dir + "' is not a directory");
+    if (!fs::is_empty(dir) && !fs::exists(dir + "/manifest.yaml") &&
+        !fs::exists(dir + "/tiles"))
+      throw RunError("tiling.workdir '" + dir +
+                     "' holds files that are not a tiled run's; give an empty or new directory");
+  }
+  return dir;
+}
+
+}  // namespace
+
+std::vector<std::string> runTiled(const PipelineConfig& config,
+                                  const std::vector<std::string>& overrides,
+                                  const RunOptions& options, std::ostream& report_stream) {
+  const ConfiguredStage& segmentation = tiledSegmentation(config);
+  checkConfigFiles(config);
+  WorkDistribution work;  // one process, or the ranks of mpirun
+  NullBuffer null_buffer;
+  std::ostream null_stream(&null_buffer);
+  std::ostream& report = options.quiet || !work.leader() ? null_stream : report_stream;
+  Progress progress(!options.quiet && work.leader());
+
+  const std::string dir = workDirectory(config);
+  const std::string tiles_dir = dir + "/tiles", runs_dir = dir + "/runs";
+  const std::string manifest_path = dir + "/manifest.yaml";
+  const TileGrid grid(config.tiling.size, config.tiling.bufferWidth());
+  const auto start = std::chrono::steady_clock::now();
+  const auto seconds = [](auto since) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+  };
+
+  // 1. Tiles: reused when the manifest is of this input and tiling, else written anew.
+  TilingManifest manifest;
+  std::string failure;
+  if (work.leader()) {
+    try {
+      TilingManifest old;
+      std::uint64_t bytes = 0;
+      std::int64_t mtime = 0;
+      inputStamp(config.input.path, bytes, mtime);
+      if (readManifest(manifest_path, old) && old.input == config.input.path &&
+          old.input_bytes == bytes && old.input_mtime == mtime && old.size == grid.size() &&
+          old.buffer == grid.buffer()) {
+        manifest = old;
+        report << "tiling: reusing " << manifest.tiles.size() << " tiles in " << tiles_dir << "\n";
+      } else {
+        fs::remove(manifest_path);
+        fs::remove_all(tiles_dir);
+        fs::remove_all(runs_dir);
+        progress.begin(1, 3, "tile " + config.input.path);
+        manifest = writeTiles(config.input.path, config.input.nan, grid, tiles_dir,
+                              [](std::uint64_t, std::uint64_t) {});
+        progress.end();
+        writeAtomically(manifest_path, manifestText(manifest));
+        report << "tiling: " << manifest.points << " points";
+        if (manifest.dropped)
+          report << " (" << manifest.dropped << " with a non-finite coordinate dropped)";
+        report << " into " << manifest.tiles.size() << " tiles of " << grid.size()
+               << " (buffer " << grid.buffer() << ") in " << tiles_dir << ", " << std::fixed
+               << std::setprecision(2) << seconds(start) << " s\n"
+               << std::defaultfloat;
+      }
+      // Runs of another config are not reused.
+      std::string fingerprint = readText(config.path);
+      for (const auto& o : overrides)
+        fingerprint += "\n--set " + o;
+      fs::create_directories(runs_dir);
+      if (readText(runs_dir + "/config") != fingerprint) {
+        fs::remove_all(runs_dir);
+        fs::create_directories(runs_dir);
+        writeAtomically(runs_dir + "/config", fingerprint);
+      }
+    } catch (const std::exception& e) {
+      failure = e.what();
+    } catch (...) {
+      failure = "tiling failed";
+    }
+  }
+  work.shareFailure(failure);
+  if (!work.leader())
+    readManifest(manifest_path, manifest);
+
+  // 2. The tiles' runs: the unchanged pipeline on each tile, its report in the tile's directory.
+  const auto tiles_start = std::chrono::steady_clock::now();
+  std::vector<std::string> tile_overrides = overrides;
+  tile_overrides.push_back("tiling.size=0");
+  tile_overrides.push_back("output.cloud=''");
+  tile_overrides.push_back(segmentation.tag + ".render=''");
+  const std::vector<std::string> names = segmentation.stage->outputFiles();  // report, segments
+  const std::string report_name = names.at(0), segments_name = names.at(1);
+  std::size_t ran = 0;
+  failure.clear();
+  try {
+    work.forEachTile(manifest.tiles.size(), [&](std::size_t t) {
+      const TileInfo& tile = manifest.tiles[t];
+      const std::string run_dir = runs_dir + "/" + tile.name();
+      if (tileDone(run_dir))
+        return;
+      progress.begin(2, 3, "tile " + std::to_string(t + 1) + "/" +
+                               std::to_string(manifest.tiles.size()) + " (" + tile.name() + ")");
+      std::vector<std::string> o = tile_overrides;
+      for (const std::string& budget : analysisBudgets(config, tile.points, manifest.points))
+        o.push_back(budget);
+      o.push_back("input.path=" + tiles_dir + "/" + tile.name() + ".ply");
+      o.push_back("output.dir=" + run_dir);
+      PipelineConfig tile_config = loadConfig(config.path, o);
+      RunOptions quiet;
+      quiet.quiet = true;
+      try {
+        runPipeline(tile_config, quiet, null_stream);
+        summariseTile(run_dir, segments_name, report_name);
+      } catch (const RunError& e) {
+        throw RunError("tile " + tile.name() + ": " + e.what());
+      }
+      progress.end();
+      ++ran;
+    });
+  } catch (const std::exception& e) {
+    failure = e.what();
+  }
+  work.shareFailure(failure);
+  const std::size_t ran_total = work.sum(ran);
+  report << "tiling: " << ran_total << " tiles run, " << manifest.tiles.size() - ran_total
+         << " already done, " << std::fixed << std::setprecision(2) << seconds(tiles_start)
+         << " s\n"
+         << std::defaultfloat;
+
+  // 3. The merge, on the leader.
+  std::vector<std::string> written;
+  failure.clear();
+  if (work.leader()) {
+    try {
+      const auto merge_start = std::chrono::steady_clock::now();
+      progress.begin(3, 3, "merge " + std::to_string(manifest.tiles.size()) + " tiles");
+      OutputFiles outputs(config.output.dir);
+      outputs.protect(config.input.path);
+      const MergeSummary s =
+          mergeTiles(manifest, runs_dir, segments_name, report_name, outputs);
+      written = outputs.commit();
+      progress.end();
+      report << "segmentation: " << s.segments << " segments from " << s.pieces
+             << " tile segments (" << s.joins << " joins across tiles), " << s.assigned << "/"
+             << s.points << " points assigned\n";
+      report << "  merge: " << std::fixed << std::setprecision(2) << seconds(merge_start)
+             << " s, whole run " << seconds(start) << " s\n"
+             << std::defaultfloat;
+      for (const auto& path : written)
+        report << "wrote " << path << "\n";
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+  }
+  work.shareFailure(failure);
+  return written;
+}
+
+}  // namespace slipfit::pipeline

@@ -1,0 +1,212 @@
+#include "tile_job.h"
+
+#include "ply_rows.h"
+
+#include "slipfit/pipeline/errors.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+namespace slipfit::pipeline::tiling {
+
+namespace {
+
+const StreamField& needField(const std::vector<StreamField>& fields, const std::string& name,
+                             const std::string& path) {
+  const StreamField* f = findField(fields, name);
+  if (!f)
+    throw RunError("'" + path + "': no field " + name);
+  return *f;
+}
+
+template <typename T>
+void writeArray(std::ofstream& out, const std::vector<T>& values, const std::string& path) {
+  writeOrFail(out, reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T), path);
+}
+
+template <typename T>
+void readArray(std::ifstream& in, std::vector<T>& values, std::uint64_t n, const std::string& path) {
+  values.resize(n);
+  if (!in.read(reinterpret_cast<char*>(values.data()),
+               static_cast<std::streamsize>(n * sizeof(T))))
+    throw RunError("'" + path + "': truncated");
+}
+
+std::uint64_t readCount(std::ifstream& in, const std::string& path) {
+  std::uint64_t n = 0;
+  if (!in || !in.read(reinterpret_cast<char*>(&n), 8))
+    throw RunError("'" + path + "': cannot be read");
+  return n;
+}
+
+}  // namespace
+
+void summariseTile(const std::string& run_dir, const std::string& segments_ply,
+                   const std::string& primitives_yaml) {
+  const std::string ply = run_dir + "/" + segments_ply;
+  CloudStream in(ply);
+  const auto& fields = in.fields();
+  const StreamField& row_f = needField(fields, "tile_row", ply);
+  const StreamField& core_f = needField(fields, "tile_core", ply);
+  const StreamField& label_f = needField(fields, "label", ply);
+  const StreamField& type_f = needField(fields, "primitive", ply);
+  const StreamField* xyz[3] = {&needField(fields, "x", ply), &needField(fields, "y", ply),
+                               &needField(fields, "z", ply)};
+  const StreamField* nxyz[3] = {&needField(fields, "nx", ply), &needField(fields, "ny", ply),
+                                &needField(fields, "nz", ply)};
+
+  TileLabels l;
+  const auto n = static_cast<std::size_t>(in.size());
+  l.rows.resize(n);
+  l.labels.resize(n);
+  l.core.resize(n);
+  std::vector<char> rows;
+  in.readRecords(0, in.size(), rows);
+  std::map<std::int32_t, TileSegment> segments;
+  for (std::size_t k = 0; k < n; ++k) {
+    const char* row = rows.data() + k * in.recordBytes();
+    l.rows[k] = static_cast<std::uint64_t>(fieldValue(row_f, row));
+    l.labels[k] = static_cast<std::int32_t>(fieldValue(label_f, row));
+    l.core[k] = fieldValue(core_f, row) != 0.0 ? 1 : 0;
+    if (l.labels[k] >= 0) {
+      TileSegment& s = segments[l.labels[k]];
+      s.type = static_cast<int>(fieldValue(type_f, row));
+      s.core_points += l.core[k];
+    }
+  }
+  // Per label: inlier distance and seed type from the tile's report.
+  try {
+    const YAML::Node report = YAML::LoadFile(run_dir + "/" + primitives_yaml);
+    for (const auto& p : report["primitives"]) {
+      const auto it = segments.find(p["label"].as<std::int32_t>());
+      if (it == segments.end())
+        continue;
+      it->second.inlier_distance = p["inlier_distance"].as<double>();
+      if (p["seed_slippage_type"])
+        it->second.seed_slippage_type = p["seed_slippage_type"].as<std::string>();
+    }
+  } catch (const YAML::Exception& e) {
+    throw RunError("'" + run_dir + "/" + primitives_yaml + "': " + e.what());
+  }
+
+  const std::string labels_path = run_dir + "/labels.bin";
+  std::ofstream lo(labels_path, std::ios::binary | std::ios::trunc);
+  const std::uint64_t count = n;
+  writeOrFail(lo, reinterpret_cast<const char*>(&count), 8, labels_path);
+  writeArray(lo, l.rows, labels_path);
+  writeArray(lo, l.labels, labels_path);
+  writeArray(lo, l.core, labels_path);
+  lo.close();
+  if (!lo)
+    throw RunError("'" + labels_path + "': write failed (disk full?)");
+
+  YAML::Emitter text;
+  text.SetDoublePrecision(17);
+  text << YAML::BeginSeq;
+  for (const auto& [label, s] : segments)
+    text << YAML::Flow << YAML::BeginSeq << label << s.type << s.core_points << s.inlier_distance
+         << s.seed_slippage_type << YAML::EndSeq;
+  text << YAML::EndSeq;
+  std::ofstream so(run_dir + "/segments.yaml", std::ios::trunc);
+  so << text.c_str() << "\n";
+  so.close();
+  if (!so)
+    throw RunError("'" + run_dir + "/segments.yaml': write failed (disk full?)");
+
+  // Every k-th core point of each label, k = ⌈core points / kSamplesPerSegment⌉.
+  std::map<std::int32_t, std::uint64_t> seen;
+  std::vector<std::int32_t> sample_labels;
+  std::vector<double> sample_values, sample_weights;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!l.core[k] || l.labels[k] < 0)
+      continue;
+    const std::uint64_t total = segments[l.labels[k]].core_points;
+    const std::uint64_t stride = (total + kSamplesPerSegment - 1) / kSamplesPerSegment;
+    if (seen[l.labels[k]]++ % stride != 0)
+      continue;
+    const char* row = rows.data() + k * in.recordBytes();
+    sample_labels.push_back(l.labels[k]);
+    for (const StreamField* f : xyz)
+      sample_values.push_back(fieldValue(*f, row));
+    for (const StreamField* f : nxyz)
+      sample_values.push_back(fieldValue(*f, row));
+    // This sample stands for the core points up to the next one.
+    const std::uint64_t taken_before = (seen[l.labels[k]] - 1) / stride;
+    const std::uint64_t covers = std::min(stride, total - taken_before * stride);
+    sample_weights.push_back(static_cast<double>(covers));
+  }
+  const std::string samples_path = run_dir + "/samples.bin";
+  std::ofstream out(samples_path, std::ios::binary | std::ios::trunc);
+  const std::uint64_t samples = sample_labels.size();
+  writeOrFail(out, reinterpret_cast<const char*>(&samples), 8, samples_path);
+  writeArray(out, sample_labels, samples_path);
+  writeArray(out, sample_values, samples_path);
+  writeArray(out, sample_weights, samples_path);
+  out.close();
+  if (!out)
+    throw RunError("'" + samples_path + "': write failed (disk full?)");
+
+  std::ofstream done(run_dir + "/done", std::ios::trunc);
+  done << "ok\n";
+  done.close();
+  if (!done)
+    throw RunError("'" + run_dir + "/done': write failed (disk full?)");
+}
+
+TileLabels readTileLabels(const std::string& run_dir) {
+  const std::string path = run_dir + "/labels.bin";
+  std::ifstream in(path, std::ios::binary);
+  const std::uint64_t n = readCount(in, path);
+  TileLabels l;
+  readArray(in, l.rows, n, path);
+  readArray(in, l.labels, n, path);
+  readArray(in, l.core, n, path);
+  return l;
+}
+
+std::vector<TileSegment> readTileSegments(const std::string& run_dir) {
+  const std::string path = run_dir + "/segments.yaml";
+  std::vector<TileSegment> segments;
+  try {
+    for (const auto& s : YAML::LoadFile(path)) {
+      const auto label = s[0].as<std::size_t>();
+      if (label >= segments.size())
+        segments.resize(label + 1);
+      segments[label] = {s[1].as<int>(), s[2].as<std::uint64_t>(), s[3].as<double>(),
+                         s[4].as<std::string>()};
+    }
+  } catch (const YAML::Exception& e) {
+    throw RunError("'" + path + "': " + e.what());
+  }
+  return segments;
+}
+
+TileSamples readTileSamples(const std::string& run_dir) {
+  const std::string path = run_dir + "/samples.bin";
+  std::ifstream in(path, std::ios::binary);
+  const std::uint64_t n = readCount(in, path);
+  TileSamples s;
+  readArray(in, s.labels, n, path);
+  std::vector<double> values;
+  readArray(in, values, 6 * n, path);
+  readArray(in, s.weights, n, path);
+  s.points.resize(3, static_cast<Eigen::Index>(n));
+  s.normals.resize(3, static_cast<Eigen::Index>(n));
+  for (std::uint64_t k = 0; k < n; ++k)
+    for (int a = 0; a < 3; ++a) {
+      s.points(a, static_cast<Eigen::Index>(k)) = values[6 * k + static_cast<std::size_t>(a)];
+      s.normals(a, static_cast<Eigen::Index>(k)) = values[6 * k + 3 + static_cast<std::size_t>(a)];
+    }
+  return s;
+}
+
+bool tileDone(const std::string& run_dir) {
+  return std::filesystem::is_regular_file(run_dir + "/done");
+}
+
+}  // namespace slipfit::pipeline::tiling

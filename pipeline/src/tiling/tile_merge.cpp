@@ -1,0 +1,265 @@
+#include "tile_merge.h"
+
+#include "ply_rows.h"
+#include "tile_job.h"
+
+#include "slipfit/fitting/primitives.h"
+#include "slipfit/fitting/weighted_fit.h"
+#include "slipfit/pipeline/cloud_io.h"
+#include "slipfit/pipeline/errors.h"
+#include "slipfit/pipeline/primitives_report.h"
+#include "slipfit/render/segment_palette.h"
+#include "slipfit/tiling/segment_joining.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <numeric>
+
+namespace slipfit::pipeline::tiling {
+
+namespace {
+
+constexpr Eigen::Index kMostRefitPoints = 200000;
+
+/// A segment of the whole cloud while it is merged.
+struct Joined {
+  std::uint64_t core_points = 0;
+  int type = -1;
+  double inlier_distance = 0.0;
+  std::string seed_slippage_type;
+  std::size_t pieces_left = 0;  ///< pieces whose samples are still to come
+  std::vector<double> samples;  ///< x, y, z, nx, ny, nz, weight per sample
+  FitResult fit;
+  double sum_squares = 0.0, max_distance = 0.0;
+  std::uint64_t inliers = 0;
+};
+
+/// Refits \a j on its samples (at most kMostRefitPoints: every k-th, its weight × k), the
+/// coordinates taken relative to \a origin.
+void refit(Joined& j, const Eigen::Vector3d& origin) {
+  const auto all = static_cast<Eigen::Index>(j.samples.size() / 7);
+  const Eigen::Index stride = (all + kMostRefitPoints - 1) / kMostRefitPoints;
+  const Eigen::Index n = (all + stride - 1) / stride;
+  Eigen::Matrix3Xd points(3, n), normals(3, n);
+  Eigen::VectorXd weights(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double* s = j.samples.data() + 7 * k * stride;
+    points.col(k) = Eigen::Vector3d(s[0], s[1], s[2]) - origin;
+    normals.col(k) = Eigen::Vector3d(s[3], s[4], s[5]);
+    weights(k) = s[6] * static_cast<double>(stride);
+  }
+  j.fit = fitPrimitive(static_cast<PrimitiveType>(j.type), points, normals, weights);
+  j.samples.clear();
+  j.samples.shrink_to_fit();
+}
+
+}  // namespace
+
+MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
+                        const std::string& segments_name, const std::string& report_name,
+                        OutputFiles& outputs) {
+  const std::size_t tiles = m.tiles.size();
+  const auto dirOf = [&](std::size_t t) { return runs_dir + "/" + m.tiles[t].name(); };
+  std::map<TileKey, std::size_t> index;
+  for (std::size_t t = 0; t < tiles; ++t)
+    index[m.tiles[t].key] = t;
+
+  // The pieces: every tile's segments, numbered tile after tile.
+  std::vector<std::vector<TileSegment>> pieces(tiles);
+  std::vector<std::size_t> first(tiles + 1, 0);
+  for (std::size_t t = 0; t < tiles; ++t) {
+    pieces[t] = readTileSegments(dirOf(t));
+    first[t + 1] = first[t] + pieces[t].size();
+  }
+  DisjointSets sets(first[tiles]);
+  MergeSummary summary;
+
+  // Joins across each pair of neighbouring tiles (each pair once).
+  const auto typesOf = [&](std::size_t t) {
+    std::vector<int> types;
+    for (const TileSegment& s : pieces[t])
+      types.push_back(s.type);
+    return types;
+  };
+  for (std::size_t t = 0; t < tiles; ++t) {
+    const TileLabels here = readTileLabels(dirOf(t));
+    for (const auto& [di, dj] : {std::pair{0, 1}, {1, -1}, {1, 0}, {1, 1}}) {
+      const auto other = index.find({m.tiles[t].key.i + di, m.tiles[t].key.j + dj});
+      if (other == index.end())
+        continue;
+      const std::size_t u = other->second;
+      const TileLabels there = readTileLabels(dirOf(u));
+      OverlapCounts counts;
+      try {
+        counts = countOverlap(here.rows, here.labels, there.rows, there.labels);
+      } catch (const std::invalid_argument& e) {
+        throw RunError("tiles '" + dirOf(t) + "' and '" + dirOf(u) + "': " + e.what());
+      }
+      for (const auto& [a, b] : segmentsToJoin(counts, typesOf(t), typesOf(u))) {
+        sets.join(first[t] + static_cast<std::size_t>(a), first[u] + static_cast<std::size_t>(b));
+        ++summary.joins;
+      }
+    }
+  }
+
+  // The segments of the whole cloud: the sets that own points, largest first (as an untiled
+  // run numbers them), ties by their first piece.
+  std::map<std::size_t, Joined> by_root;
+  for (std::size_t t = 0; t < tiles; ++t)
+    for (std::size_t l = 0; l < pieces[t].size(); ++l) {
+      const TileSegment& s = pieces[t][l];
+      if (s.core_points == 0)
+        continue;
+      Joined& j = by_root[sets.find(first[t] + l)];
+      // The type of the largest piece; the widest tolerance of any piece.
+      if (j.type < 0 || s.core_points > j.core_points) {
+        j.type = s.type;
+        j.seed_slippage_type = s.seed_slippage_type;
+      }
+      j.core_points += s.core_points;
+      j.inlier_distance = std::max(j.inlier_distance, s.inlier_distance);
+      ++j.pieces_left;
+      ++summary.pieces;
+    }
+  std::vector<std::size_t> roots;
+  for (const auto& [root, j] : by_root)
+    roots.push_back(root);
+  std::stable_sort(roots.begin(), roots.end(), [&](std::size_t a, std::size_t b) {
+    return by_root[a].core_points > by_root[b].core_points;
+  });
+  std::vector<Joined> joined(roots.size());
+  std::map<std::size_t, std::int32_t> id_of_root;
+  for (std::size_t k = 0; k < roots.size(); ++k) {
+    joined[k] = std::move(by_root[roots[k]]);
+    id_of_root[roots[k]] = static_cast<std::int32_t>(k);
+  }
+  by_root.clear();
+  const auto idOf = [&](std::size_t t, std::int32_t label) -> std::int32_t {
+    if (label < 0 || static_cast<std::size_t>(label) >= pieces[t].size() ||
+        pieces[t][static_cast<std::size_t>(label)].core_points == 0)
+      return -1;
+    return id_of_root.at(sets.find(first[t] + static_cast<std::size_t>(label)));
+  };
+
+  // Refits on the union of the pieces' samples, each segment as soon as its last piece is read.
+  const Eigen::Vector3d origin =
+      globalShift(Eigen::Vector3d(m.lo[0], m.lo[1], m.lo[2]),
+                  Eigen::Vector3d(m.hi[0], m.hi[1], m.hi[2]));
+  for (std::size_t t = 0; t < tiles; ++t) {
+    const TileSamples s = readTileSamples(dirOf(t));
+    for (std::size_t k = 0; k < s.labels.size(); ++k) {
+      const std::int32_t g = idOf(t, s.labels[k]);
+      if (g < 0)
+        continue;
+      auto& v = joined[static_cast<std::size_t>(g)].samples;
+      const auto c = static_cast<Eigen::Index>(k);
+      v.insert(v.end(), {s.points(0, c), s.points(1, c), s.points(2, c), s.normals(0, c),
+                         s.normals(1, c), s.normals(2, c), s.weights[k]});
+    }
+    for (std::size_t l = 0; l < pieces[t].size(); ++l) {
+      const std::int32_t g = idOf(t, static_cast<std::int32_t>(l));
+      if (g >= 0 && --joined[static_cast<std::size_t>(g)].pieces_left == 0)
+        refit(joined[static_cast<std::size_t>(g)], origin);
+    }
+  }
+
+  // segments.ply: each tile's own points, with the whole cloud's labels and colours.
+  std::uint64_t total = 0;
+  for (std::size_t t = 0; t < tiles; ++t) {
+    const TileLabels l = readTileLabels(dirOf(t));
+    total += static_cast<std::uint64_t>(std::count(l.core.begin(), l.core.end(), 1));
+  }
+  outputs.add(segments_name, [&](const std::string& path) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    std::vector<StreamField> fields;
+    std::vector<char> rows, row_out;
+    for (std::size_t t = 0; t < tiles; ++t) {
+      const std::string ply = dirOf(t) + "/" + segments_name;
+      CloudStream in(ply);
+      const std::vector<StreamField> kept = withoutFields(in.fields(), {"tile_row", "tile_core"});
+      if (t == 0) {
+        fields = kept;
+        const std::string header = plyHeader(fields, total);
+        writeOrFail(out, header.data(), header.size(), path);
+      } else if (kept.size() != fields.size()) {
+        throw RunError("'" + ply + "': its fields differ from the first tile's");
+      }
+      const StreamField* core = findField(in.fields(), "tile_core");
+      const StreamField* label = findField(fields, "label");
+      const StreamField* type = findField(fields, "primitive");
+      const StreamField* colour[3] = {findField(fields, "red"), findField(fields, "green"),
+                                      findField(fields, "blue")};
+      const StreamField* xyz[3] = {findField(fields, "x"), findField(fields, "y"),
+                                   findField(fields, "z")};
+      if (!core || !label || !type || !colour[0] || !colour[1] || !colour[2])
+        throw RunError("'" + ply + "': not a segmentation output of a tile");
+      const std::uint64_t bytes = fields.back().offset + fields.back().bytes;
+      constexpr std::uint64_t kChunk = 1u << 16;
+      for (std::uint64_t r0 = 0; r0 < in.size(); r0 += kChunk) {
+        const std::uint64_t n = std::min(kChunk, in.size() - r0);
+        in.readRecords(r0, n, rows);
+        row_out.clear();
+        for (std::uint64_t r = 0; r < n; ++r) {
+          const char* row = rows.data() + r * in.recordBytes();
+          if (fieldValue(*core, row) == 0.0)
+            continue;
+          const std::size_t at = row_out.size();
+          row_out.resize(at + bytes);
+          char* o = row_out.data() + at;
+          copyFields(in.fields(), row, fields, o);
+          const std::int32_t g = idOf(t, static_cast<std::int32_t>(fieldValue(*label, o)));
+          setFieldValue(*label, o, g);
+          const Rgb c = g < 0 ? kUnassignedColour : segmentColour(static_cast<std::size_t>(g));
+          for (int a = 0; a < 3; ++a)
+            setFieldValue(*colour[a], o, c[static_cast<std::size_t>(a)]);
+          ++summary.points;
+          if (g < 0) {
+            setFieldValue(*type, o, -1);
+            continue;
+          }
+          Joined& j = joined[static_cast<std::size_t>(g)];
+          setFieldValue(*type, o, static_cast<double>(j.fit.type));
+          const Eigen::Vector3d p(fieldValue(*xyz[0], o), fieldValue(*xyz[1], o),
+                                  fieldValue(*xyz[2], o));
+          const double d = j.fit.ok() ? distance(p - origin, j.fit.refined) : 0.0;
+          j.sum_squares += d * d;
+          j.max_distance = std::max(j.max_distance, d);
+          j.inliers += d <= j.inlier_distance ? 1 : 0;
+          ++summary.assigned;
+        }
+        writeOrFail(out, row_out.data(), row_out.size(), path);
+      }
+    }
+    out.close();
+    if (!out)
+      throw RunError("'" + path + "': write failed (disk full?)");
+    if (summary.points != total)
+      throw RunError("'" + path + "': " + std::to_string(summary.points) + " points written of " +
+                     std::to_string(total));
+  });
+
+  std::vector<PrimitiveRecord> records;
+  for (std::size_t k = 0; k < joined.size(); ++k) {
+    const Joined& j = joined[k];
+    PrimitiveRecord r;
+    r.id = static_cast<int>(k);
+    r.label = static_cast<int>(k);
+    r.fit = j.fit;
+    if (j.core_points > 0)
+      r.fit.rms_distance = std::sqrt(j.sum_squares / static_cast<double>(j.core_points));
+    r.fit.max_distance = j.max_distance;
+    r.inlier_distance = j.inlier_distance;
+    r.inliers = j.inliers;
+    r.extra["points"] = std::to_string(j.core_points);
+    if (!j.seed_slippage_type.empty())
+      r.extra["seed_slippage_type"] = j.seed_slippage_type;
+    records.push_back(std::move(r));
+  }
+  outputs.addText(report_name, primitivesYaml(records, "slipfit segmentation", origin));
+  summary.segments = joined.size();
+  return summary;
+}
+
+}  // namespace slipfit::pipeline::tiling

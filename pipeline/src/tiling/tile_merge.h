@@ -1,0 +1,30 @@
+#pragma once
+/// \file The merge of a tiled run: segments of neighbouring tiles joined on their shared buffer
+/// points (segment_joining.h), each joined segment refitted on the union of its pieces' samples,
+/// and segments.ply and primitives.yaml written as streams, tile after tile, each point from the
+/// one tile that owns it (docs/TILING.md).
+
+#include "tiler.h"
+
+#include "slipfit/pipeline/output_files.h"
+
+#include <cstdint>
+#include <string>
+
+namespace slipfit::pipeline::tiling {
+
+struct MergeSummary {
+  std::size_t segments = 0;     ///< of the whole cloud
+  std::size_t pieces = 0;       ///< per-tile segments that own points
+  std::size_t joins = 0;        ///< pairs of pieces joined across tiles
+  std::uint64_t points = 0;     ///< written
+  std::uint64_t assigned = 0;   ///< of those, in a segment
+};
+
+/// Merges the finished runs of \a manifest's tiles in \a runs_dir (one directory per tile) into
+/// \a segments_name and \a report_name, added to \a outputs (committed by the caller).
+MergeSummary mergeTiles(const TilingManifest& manifest, const std::string& runs_dir,
+                        const std::string& segments_name, const std::string& report_name,
+                        OutputFiles& outputs);
+
+}  // namespace slipfit::pipeline::tiling

@@ -1,0 +1,275 @@
+#include "tiler.h"
+
+#include "ply_rows.h"
+
+#include "slipfit/pipeline/cloud_stream.h"
+#include "slipfit/pipeline/errors.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+namespace slipfit::pipeline::tiling {
+
+namespace {
+
+constexpr std::uint64_t kRowsPerChunk = 1u << 16;
+constexpr std::size_t kBufferedBytes = std::size_t{32} << 20;  // all tiles' write buffers
+
+/// The input's coordinates of each row of a chunk.
+struct Coordinates {
+  const StreamField *x, *y, *z;
+  void at(const char* row, double& px, double& py, double& pz) const {
+    px = fieldValue(*x, row);
+    py = fieldValue(*y, row);
+    pz = fieldValue(*z, row);
+  }
+};
+
+Coordinates coordinatesOf(const std::vector<StreamField>& fields) {
+  return {findField(fields, "x"), findField(fields, "y"), findField(fields, "z")};
+}
+
+/// Reads every row of \a in in chunks; \a visit(row index, row bytes, x, y, z) for rows with
+/// finite coordinates; counts the others (or throws under NanPolicy::error).
+template <typename Visit>
+std::uint64_t forEachRow(CloudStream& in, const std::string& path, NanPolicy nan, Visit&& visit,
+                         const std::function<void(std::uint64_t, std::uint64_t)>& progress,
+                         std::uint64_t done_before, std::uint64_t total) {
+  const Coordinates c = coordinatesOf(in.fields());
+  std::vector<char> rows;
+  std::uint64_t dropped = 0;
+  for (std::uint64_t first = 0; first < in.size(); first += kRowsPerChunk) {
+    const std::uint64_t n = std::min(kRowsPerChunk, in.size() - first);
+    in.readRecords(first, n, rows);
+    for (std::uint64_t r = 0; r < n; ++r) {
+      const char* row = rows.data() + r * in.recordBytes();
+      double x, y, z;
+      c.at(row, x, y, z);
+      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
+        if (nan == NanPolicy::error)
+          throw RunError("input '" + path + "': point " + std::to_string(first + r) +
+                         " has a non-finite coordinate; set input.nan: skip to drop such points");
+        ++dropped;
+        continue;
+      }
+      visit(first + r, row, x, y, z);
+    }
+    if (progress)
+      progress(done_before + first + n, total);
+  }
+  return dropped;
+}
+
+/// One tile's file while it is written: rows wait in a buffer and are appended in batches, so
+/// that no more than one file is open at a time.
+struct TileWriter {
+  std::string path;
+  std::vector<char> pending;
+  void flush() {
+    if (pending.empty())
+      return;
+    std::ofstream out(path, std::ios::binary | std::ios::app);
+    if (!out)
+      throw RunError("tile '" + path + "': cannot be opened for writing");
+    writeOrFail(out, pending.data(), pending.size(), path);
+    out.close();
+    if (!out)
+      throw RunError("'" + path + "': write failed (disk full?)");
+    pending.clear();
+    pending.shrink_to_fit();
+  }
+};
+
+}  // namespace
+
+void inputStamp(const std::string& path, std::uint64_t& bytes, std::int64_t& mtime) {
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0)
+    throw RunError("input '" + path + "': cannot be read");
+  bytes = static_cast<std::uint64_t>(st.st_size);
+  mtime = static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
+}
+
+TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGrid& grid,
+                          const std::string& dir,
+                          const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
+  CloudStream in(input);
+  for (const StreamField& f : in.fields())
+    if (f.type == "int64" || f.type == "uint64")
+      throw RunError("input '" + input + "': field " + f.name +
+                     " holds 8-byte integers, which PLY tiles cannot carry");
+  TilingManifest m;
+  m.input = input;
+  inputStamp(input, m.input_bytes, m.input_mtime);
+  m.size = grid.size();
+  m.buffer = grid.buffer();
+  m.double_coordinates = in.doubleCoordinates();
+  for (int a = 0; a < 3; ++a) {
+    m.lo[a] = std::numeric_limits<double>::infinity();
+    m.hi[a] = -std::numeric_limits<double>::infinity();
+  }
+
+  // Pass 1: each tile's points and core points.
+  std::map<TileKey, TileInfo> tiles;
+  const auto place = [&](double x, double y, const auto& visit) {
+    try {
+      grid.forEachCovering(x, y, visit);
+    } catch (const std::invalid_argument&) {
+      throw RunError("input '" + input + "': coordinate (" + std::to_string(x) + ", " +
+                     std::to_string(y) + ") lies outside any tile of size " +
+                     std::to_string(grid.size()));
+    }
+  };
+  m.dropped = forEachRow(
+      in, input, nan,
+      [&](std::uint64_t, const char*, double x, double y, double z) {
+        const double p[3] = {x, y, z};
+        for (int a = 0; a < 3; ++a) {
+          m.lo[a] = std::min(m.lo[a], p[a]);
+          m.hi[a] = std::max(m.hi[a], p[a]);
+        }
+        const TileKey own = grid.owner(x, y);
+        place(x, y, [&](TileKey t) {
+          TileInfo& info = tiles[t];
+          info.key = t;
+          ++info.points;
+          if (t == own)
+            ++info.core;
+        });
+        ++m.points;
+      },
+      progress, 0, 2 * in.size());
+  if (m.points == 0)
+    throw RunError("input '" + input + "': no point with finite coordinates");
+
+  // Pass 2: the rows of each tile, its fields plus tile_row and tile_core.
+  std::vector<StreamField> fields = withoutFields(in.fields(), {"_"});  // PCD padding
+  for (const StreamField& f : fields)
+    if (f.name == "tile_row" || f.name == "tile_core")
+      throw RunError("input '" + input + "': field " + f.name + " is the tiling's own");
+  const std::uint64_t kept_bytes = fields.empty() ? 0 : fields.back().offset + fields.back().bytes;
+  fields.push_back({"tile_row", "double", 8, kept_bytes});
+  fields.push_back({"tile_core", "uchar", 1, kept_bytes + 8});
+  const std::uint64_t tile_row_bytes = kept_bytes + 9;
+
+  std::filesystem::create_directories(dir);
+  std::map<TileKey, TileWriter> writers;
+  for (auto& [key, info] : tiles) {
+    if (info.core == 0)
+      continue;  // a tile of buffer points only: its neighbours own them all
+    TileWriter& w = writers[key];
+    w.path = dir + "/" + info.name() + ".ply";
+    std::ofstream out(w.path, std::ios::binary | std::ios::trunc);
+    if (!out)
+      throw RunError("tile '" + w.path + "': cannot be created");
+    const std::string header = plyHeader(fields, info.points);
+    writeOrFail(out, header.data(), header.size(), w.path);
+    m.tiles.push_back(info);
+  }
+  std::size_t buffered = 0;
+  std::vector<char> row_out(tile_row_bytes);
+  const std::vector<StreamField> copied = withoutFields(fields, {"tile_row", "tile_core"});
+  forEachRow(
+      in, input, nan,
+      [&](std::uint64_t index, const char* row, double x, double y, double) {
+        copyFields(in.fields(), row, copied, row_out.data());
+        const double row_index = static_cast<double>(index);
+        std::memcpy(row_out.data() + kept_bytes, &row_index, 8);
+        const TileKey own = grid.owner(x, y);
+        place(x, y, [&](TileKey t) {
+          const auto w = writers.find(t);
+          if (w == writers.end())
+            return;
+          row_out[kept_bytes + 8] = t == own ? 1 : 0;
+          w->second.pending.insert(w->second.pending.end(), row_out.begin(), row_out.end());
+          buffered += row_out.size();
+        });
+        if (buffered > kBufferedBytes) {
+          for (auto& [key, w] : writers)
+            w.flush();
+          buffered = 0;
+        }
+      },
+      progress, in.size(), 2 * in.size());
+  for (auto& [key, w] : writers)
+    w.flush();
+  // Every tile holds exactly the rows its header announces.
+  for (const TileInfo& t : m.tiles) {
+    const std::string path = dir + "/" + t.name() + ".ply";
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(path, ec);
+    if (ec || bytes != plyHeader(fields, t.points).size() + t.points * tile_row_bytes)
+      throw RunError("tile '" + path + "': write failed (disk full?)");
+  }
+  return m;
+}
+
+std::string manifestText(const TilingManifest& m) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  out << YAML::Key << "slipfit_tiling" << YAML::Value << 1;
+  out << YAML::Key << "input" << YAML::Value << m.input;
+  out << YAML::Key << "input_bytes" << YAML::Value << m.input_bytes;
+  out << YAML::Key << "input_mtime" << YAML::Value << m.input_mtime;
+  out << YAML::Key << "size" << YAML::Value << m.size;
+  out << YAML::Key << "buffer" << YAML::Value << m.buffer;
+  out << YAML::Key << "points" << YAML::Value << m.points;
+  out << YAML::Key << "dropped" << YAML::Value << m.dropped;
+  out << YAML::Key << "double_coordinates" << YAML::Value << m.double_coordinates;
+  out << YAML::Key << "lo" << YAML::Value << YAML::Flow << YAML::BeginSeq << m.lo[0] << m.lo[1]
+      << m.lo[2] << YAML::EndSeq;
+  out << YAML::Key << "hi" << YAML::Value << YAML::Flow << YAML::BeginSeq << m.hi[0] << m.hi[1]
+      << m.hi[2] << YAML::EndSeq;
+  out << YAML::Key << "tiles" << YAML::Value << YAML::BeginSeq;
+  for (const TileInfo& t : m.tiles)
+    out << YAML::Flow << YAML::BeginSeq << t.key.i << t.key.j << t.points << t.core
+        << YAML::EndSeq;
+  out << YAML::EndSeq << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+bool readManifest(const std::string& path, TilingManifest& m) {
+  if (!std::filesystem::is_regular_file(path))
+    return false;
+  try {
+    const YAML::Node n = YAML::LoadFile(path);
+    if (!n.IsMap() || !n["slipfit_tiling"] || n["slipfit_tiling"].as<int>() != 1)
+      return false;
+    m.input = n["input"].as<std::string>();
+    m.input_bytes = n["input_bytes"].as<std::uint64_t>();
+    m.input_mtime = n["input_mtime"].as<std::int64_t>();
+    m.size = n["size"].as<double>();
+    m.buffer = n["buffer"].as<double>();
+    m.points = n["points"].as<std::uint64_t>();
+    m.dropped = n["dropped"].as<std::uint64_t>();
+    m.double_coordinates = n["double_coordinates"].as<bool>();
+    for (int a = 0; a < 3; ++a) {
+      m.lo[a] = n["lo"][a].as<double>();
+      m.hi[a] = n["hi"][a].as<double>();
+    }
+    m.tiles.clear();
+    for (const auto& t : n["tiles"]) {
+      TileInfo info;
+      info.key = {t[0].as<std::int64_t>(), t[1].as<std::int64_t>()};
+      info.points = t[2].as<std::uint64_t>();
+      info.core = t[3].as<std::uint64_t>();
+      m.tiles.push_back(info);
+    }
+    return true;
+  } catch (const YAML::Exception&) {
+    return false;
+  }
+}
+
+}  // namespace slipfit::pipeline::tiling

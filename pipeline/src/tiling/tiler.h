@@ -1,0 +1,56 @@
+#pragma once
+/// \file Streaming a cloud into tiles (tile_grid.h): two reads of the input by row ranges
+/// (CloudStream), one to count each tile's points, one to write them; memory is bounded by the
+/// write buffers, whatever the size of the cloud. Each tile is a binary PLY of the input's
+/// fields plus `tile_row` (the point's row in the input, exact as a double up to 2^53) and
+/// `tile_core` (1 in the tile that owns the point).
+
+#include "slipfit/pipeline/cloud_io.h"
+#include "slipfit/tiling/tile_grid.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace slipfit::pipeline::tiling {
+
+struct TileInfo {
+  TileKey key;
+  std::uint64_t points = 0;  ///< core and buffer
+  std::uint64_t core = 0;    ///< points this tile owns
+  /// "tile_<i>_<j>": the tile's file (.ply) and run directory.
+  std::string name() const { return "tile_" + std::to_string(key.i) + "_" + std::to_string(key.j); }
+};
+
+/// What the tiling made, written last (manifest.yaml): a rerun with the same input and tiling
+/// reuses the tiles.
+struct TilingManifest {
+  std::string input;
+  std::uint64_t input_bytes = 0;
+  std::int64_t input_mtime = 0;  ///< nanoseconds
+  double size = 0.0, buffer = 0.0;
+  std::uint64_t points = 0;   ///< kept: each owned by exactly one tile
+  std::uint64_t dropped = 0;  ///< non-finite coordinates (input.nan: skip)
+  /// The x, y bounds of the kept points (for the merged report's global shift).
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  bool double_coordinates = false;
+  std::vector<TileInfo> tiles;  ///< ascending by key; only tiles that own points
+};
+
+/// The input file's size and modification time, as the manifest records them.
+void inputStamp(const std::string& path, std::uint64_t& bytes, std::int64_t& mtime);
+
+/// Writes the tiles of \a input into \a dir (created) and returns the manifest (not yet saved).
+/// \a progress(done, total) is called as rows are read. Throws RunError naming the file and row
+/// for unreadable input, a non-finite coordinate under NanPolicy::error, a coordinate outside the
+/// grid, and naming the tile for a failed write.
+TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGrid& grid,
+                          const std::string& dir,
+                          const std::function<void(std::uint64_t, std::uint64_t)>& progress);
+
+/// manifest.yaml's text, and the manifest read back (false when \a path is missing or not one).
+std::string manifestText(const TilingManifest& manifest);
+bool readManifest(const std::string& path, TilingManifest& manifest);
+
+}  // namespace slipfit::pipeline::tiling
