@@ -1,5 +1,7 @@
 #include "slipfit/pipeline/tiled_run.h"
 
+#include "slipfit/filters/subsampling.h"
+#include "slipfit/pipeline/cloud_stream.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/progress.h"
@@ -64,26 +66,70 @@ const ConfiguredStage& tiledSegmentation(const PipelineConfig& config) {
   return config.stages.back();
 }
 
-/// A subsample stage's `points` is a budget for the whole cloud: each tile gets its share (at
-/// least the option's lowest value, 100), so that a tile is analysed at the density the untiled
-/// run would have (the same leaf, for a cloud of even density). A `leaf`, when given, overrides
-/// points in every tile as it does untiled. Returns the overrides "TAG.points=N".
-std::vector<std::string> analysisBudgets(const PipelineConfig& config, std::uint64_t tile_points,
-                                         std::uint64_t cloud_points) {
-  std::vector<std::string> budgets;
+/// A subsample stage's `points` is a budget for the whole cloud. In voxel mode the tiles all use
+/// the leaf the untiled run would choose (voxelLeafForTarget, each tile counting the voxels whose
+/// corner lies in its core: the counts add up to the whole cloud's), so that every tile is
+/// analysed at the untiled run's voxels; in random mode each tile gets its share of the budget.
+/// A given `leaf` is kept as it is. Returns, per subsample stage, the override for every tile
+/// ("TAG.leaf=L") or a budget to scale by the tile's share (TAG, points).
+struct AnalysisBudgets {
+  std::vector<std::string> every_tile;
+  std::vector<std::pair<std::string, double>> shares;
+  std::vector<std::string> forTile(std::uint64_t tile_points, std::uint64_t cloud_points) const {
+    std::vector<std::string> o = every_tile;
+    for (const auto& [tag, whole] : shares) {
+      const double share = whole * static_cast<double>(tile_points) /
+                           static_cast<double>(std::max<std::uint64_t>(cloud_points, 1));
+      o.push_back(tag + ".points=" +
+                  std::to_string(static_cast<std::uint64_t>(std::max(100.0, std::ceil(share)))));
+    }
+    return o;
+  }
+};
+
+/// With \a count false only the shares (the every-tile overrides come from the leader).
+AnalysisBudgets analysisBudgets(const PipelineConfig& config, const TilingManifest& manifest,
+                                const TileGrid& grid, const std::string& tiles_dir, bool count) {
+  AnalysisBudgets budgets;
   for (const ConfiguredStage& s : config.stages) {
     if (s.type != "subsample")
       continue;
-    OptionSet options;  // declared anew: the option's value is the configured one
+    OptionSet options;  // declared anew: each option's "default" is its configured value
     s.stage->declare(options);
     const Option* points = options.find("points");
-    if (!points)
+    const Option* mode = options.find("mode");
+    const Option* leaf = options.find("leaf");
+    if (!points || !mode || !leaf || leaf->defaultText() != "unset")
       continue;
     const double whole = std::stod(points->defaultText());
-    const double share = whole * static_cast<double>(tile_points) /
-                         static_cast<double>(std::max<std::uint64_t>(cloud_points, 1));
-    budgets.push_back(s.tag + ".points=" +
-                      std::to_string(static_cast<std::uint64_t>(std::max(100.0, std::ceil(share)))));
+    if (mode->defaultText() != "voxel") {
+      budgets.shares.emplace_back(s.tag, whole);
+      continue;
+    }
+    if (!count)
+      continue;
+    if (whole >= static_cast<double>(manifest.points)) {
+      budgets.every_tile.push_back(s.tag + ".points=" + std::to_string(manifest.points));
+      continue;  // untiled, every point is analysed: so in every tile
+    }
+    const Eigen::Vector3d sizes(manifest.hi[0] - manifest.lo[0], manifest.hi[1] - manifest.lo[1],
+                                manifest.hi[2] - manifest.lo[2]);
+    const double chosen = voxelLeafForTarget(
+        sizes, static_cast<std::size_t>(whole), [&](double l) {
+          std::size_t n = 0;
+          for (const TileInfo& t : manifest.tiles) {
+            CloudStream in(tiles_dir + "/" + t.name() + ".ply");
+            Eigen::Matrix3Xd xyz;
+            in.read(0, in.size(), xyz);
+            n += occupiedVoxels(xyz, l, [&](const Eigen::Vector3d& corner) {
+              return grid.owner(corner.x(), corner.y()) == t.key;
+            });
+          }
+          return n;
+        });
+    std::ostringstream o;
+    o << s.tag << ".leaf=" << std::setprecision(17) << chosen;
+    budgets.every_tile.push_back(o.str());
   }
   return budgets;
 }
@@ -156,16 +202,6 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
                << std::setprecision(2) << seconds(start) << " s\n"
                << std::defaultfloat;
       }
-      // Runs of another config are not reused.
-      std::string fingerprint = readText(config.path);
-      for (const auto& o : overrides)
-        fingerprint += "\n--set " + o;
-      fs::create_directories(runs_dir);
-      if (readText(runs_dir + "/config") != fingerprint) {
-        fs::remove_all(runs_dir);
-        fs::create_directories(runs_dir);
-        writeAtomically(runs_dir + "/config", fingerprint);
-      }
     } catch (const std::exception& e) {
       failure = e.what();
     } catch (...) {
@@ -175,6 +211,41 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   work.shareFailure(failure);
   if (!work.leader())
     readManifest(manifest_path, manifest);
+
+  // The analysis density of the untiled run, in every tile.
+  AnalysisBudgets budgets;
+  failure.clear();
+  if (work.leader()) {
+    try {
+      budgets = analysisBudgets(config, manifest, grid, tiles_dir, true);
+      std::string text;
+      for (const auto& o : budgets.every_tile)
+        text += o + "\n";
+      // Runs of another config (or another analysis density) are not reused.
+      std::string fingerprint = readText(config.path);
+      for (const auto& o : overrides)
+        fingerprint += "\n--set " + o;
+      fingerprint += "\n" + text;
+      fs::create_directories(runs_dir);
+      if (readText(runs_dir + "/config") != fingerprint) {
+        fs::remove_all(runs_dir);
+        fs::create_directories(runs_dir);
+        writeAtomically(runs_dir + "/config", fingerprint);
+      }
+      writeAtomically(runs_dir + "/analysis", text);
+      for (const auto& o : budgets.every_tile)
+        report << "tiling: every tile analysed with " << o << " (as untiled)\n";
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+  }
+  work.shareFailure(failure);
+  if (!work.leader()) {  // the leader's choice, read back (no second count)
+    std::istringstream lines(readText(runs_dir + "/analysis"));
+    for (std::string line; std::getline(lines, line);)
+      budgets.every_tile.push_back(line);
+    budgets.shares = analysisBudgets(config, manifest, grid, tiles_dir, false).shares;
+  }
 
   // 2. The tiles' runs: the unchanged pipeline on each tile, its report in the tile's directory.
   const auto tiles_start = std::chrono::steady_clock::now();
@@ -195,7 +266,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       progress.begin(2, 3, "tile " + std::to_string(t + 1) + "/" +
                                std::to_string(manifest.tiles.size()) + " (" + tile.name() + ")");
       std::vector<std::string> o = tile_overrides;
-      for (const std::string& budget : analysisBudgets(config, tile.points, manifest.points))
+      for (const std::string& budget : budgets.forTile(tile.points, manifest.points))
         o.push_back(budget);
       o.push_back("input.path=" + tiles_dir + "/" + tile.name() + ".ply");
       o.push_back("output.dir=" + run_dir);

@@ -58,9 +58,9 @@ std::vector<std::pair<std::int32_t, std::int32_t>> segmentsToJoin(const OverlapC
         type_a[static_cast<std::size_t>(a)] != type_b[static_cast<std::size_t>(b)])
       continue;
     const auto n = static_cast<double>(together);
-    // Of the smaller one: a segment over-segmented in one tile still joins each of its pieces.
-    const auto smaller = static_cast<double>(std::min(counts.in_a.at(a), counts.in_b.at(b)));
-    if (together >= p.min_shared && n >= p.min_agreement * smaller)
+    // Of each: a segment that wrongly holds two shapes in one tile joins at most the larger.
+    if (together >= p.min_shared && n >= p.min_agreement * static_cast<double>(counts.in_a.at(a)) &&
+        n >= p.min_agreement * static_cast<double>(counts.in_b.at(b)))
       joins.push_back(pair);
   }
   return joins;  // std::map iterates in ascending order

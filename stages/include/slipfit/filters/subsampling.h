@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string_view>
 #include <utility>
@@ -79,14 +80,29 @@ struct Subsample {
   std::vector<std::int32_t> representative;  ///< per input point: its position in `kept`
 };
 
-/// One point per occupied voxel of edge \a leaf (the first in index order: deterministic);
-/// non-finite points are represented by nothing (−1). Throws InvalidParameterError for a leaf
-/// that is not positive or would overflow the 21-bit voxel keys.
+/// One point per occupied voxel of edge \a leaf (the first in index order: deterministic); the
+/// voxels lie at multiples of the leaf, as PCL's VoxelGrid places them, so that a part of a cloud
+/// (a tile) has the voxels of the whole cloud. Non-finite points are represented by nothing (−1).
+/// Throws InvalidParameterError for a leaf that is not positive or would overflow the 21-bit
+/// voxel keys.
 Subsample voxelSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, double leaf);
 
 /// voxelSample with the leaf adjusted (a few passes, each O(N)) so that about \a target points
 /// are kept; no subsampling (leaf 0, every point kept) when there are at most \a target points.
 Subsample voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target);
+
+/// voxelSampleTo's choice of the leaf: from the points' bounding box (\a box_sizes), then up to
+/// four corrections by the count of occupied voxels, which \a occupied(leaf) returns (for
+/// points held elsewhere: the tiles of an out-of-core run sum theirs). The last call is at the
+/// leaf returned.
+double voxelLeafForTarget(const Eigen::Vector3d& box_sizes, std::size_t target,
+                          const std::function<std::size_t(double leaf)>& occupied);
+
+/// The voxels of edge \a leaf (at multiples of it) that hold at least one of \a points and
+/// whose lowest corner \a counts: a tile counts the voxels whose corner lies in its core, so
+/// that the tiles' counts add up to the whole cloud's.
+std::size_t occupiedVoxels(const Eigen::Ref<const Eigen::Matrix3Xd>& points, double leaf,
+                           const std::function<bool(const Eigen::Vector3d& corner)>& counts);
 
 /// The mean position of the input points each kept point stands for (its voxel's centroid in
 /// voxel sampling, as PCL's VoxelGrid places its points) and how many they are. A mean of m
