@@ -112,8 +112,13 @@ AnalysisBudgets analysisBudgets(const PipelineConfig& config, const TilingManife
       budgets.every_tile.push_back(s.tag + ".points=" + std::to_string(manifest.points));
       continue;  // untiled, every point is analysed: so in every tile
     }
-    const Eigen::Vector3d sizes(manifest.hi[0] - manifest.lo[0], manifest.hi[1] - manifest.lo[1],
-                                manifest.hi[2] - manifest.lo[2]);
+    // The untiled run's grid: its box (sizes in float, as the stage sees float coordinates) and
+    // its lowest corner as the voxels' origin.
+    const Eigen::Vector3d origin(manifest.lo[0], manifest.lo[1], manifest.lo[2]);
+    Eigen::Vector3d sizes;
+    for (int a = 0; a < 3; ++a)
+      sizes[a] = static_cast<double>(static_cast<float>(manifest.hi[a]) -
+                                     static_cast<float>(manifest.lo[a]));
     const double chosen = voxelLeafForTarget(
         sizes, static_cast<std::size_t>(whole), [&](double l) {
           std::size_t n = 0;
@@ -121,14 +126,17 @@ AnalysisBudgets analysisBudgets(const PipelineConfig& config, const TilingManife
             CloudStream in(tiles_dir + "/" + t.name() + ".ply");
             Eigen::Matrix3Xd xyz;
             in.read(0, in.size(), xyz);
-            n += occupiedVoxels(xyz, l, [&](const Eigen::Vector3d& corner) {
+            n += occupiedVoxels(xyz, l, origin, [&](const Eigen::Vector3d& corner) {
               return grid.owner(corner.x(), corner.y()) == t.key;
             });
           }
           return n;
         });
     std::ostringstream o;
-    o << s.tag << ".leaf=" << std::setprecision(17) << chosen;
+    o << std::setprecision(17) << s.tag << ".leaf=" << chosen;
+    budgets.every_tile.push_back(o.str());
+    o.str("");
+    o << s.tag << ".origin=[" << origin.x() << ", " << origin.y() << ", " << origin.z() << "]";
     budgets.every_tile.push_back(o.str());
   }
   return budgets;

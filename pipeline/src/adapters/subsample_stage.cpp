@@ -24,7 +24,10 @@ class SubsampleStage : public Stage {
     if (data.full)
       throw RunError("the cloud is already subsampled");
     const Eigen::Matrix3Xf x = coordinates(*data.cloud);  // the cloud is replaced below
-    const Subsample s = subsample(x, p_, context.seed);
+    SubsampleParameters p = p_;
+    if (p.origin)
+      *p.origin -= data.frame.shift;  // given in the input's frame
+    const Subsample s = subsample(x, p, context.seed);
     if (s.kept.size() == data.size()) {
       context.report << "subsample: " << data.size() << " points, none dropped\n";
       return;

@@ -26,7 +26,8 @@ Eigen::AlignedBox3f finiteBox(const Eigen::Ref<const Eigen::Matrix3Xf>& points) 
 
 }  // namespace
 
-Subsample voxelSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, double leaf) {
+Subsample voxelSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, double leaf,
+                      const std::optional<Eigen::Vector3d>& grid_origin) {
   const Eigen::AlignedBox3f box = finiteBox(points);
   Subsample s;
   s.leaf = leaf;
@@ -34,18 +35,18 @@ Subsample voxelSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, double l
   if (box.isEmpty())
     return s;
   constexpr double kCells = 1 << 21;
-  if (!(leaf > 0.0) || box.diagonal().cast<double>().maxCoeff() / leaf >= kCells - 2)
+  const Eigen::Vector3d origin = grid_origin ? *grid_origin : box.min().cast<double>();
+  if (grid_origin && (box.min().cast<double>() - origin).minCoeff() < 0.0)
+    throw InvalidParameterError("voxel sampling: a point lies below the grid's origin");
+  if (!(leaf > 0.0) || (box.max().cast<double>() - origin).maxCoeff() / leaf >= kCells - 1)
     throw InvalidParameterError("voxel sampling: leaf " + std::to_string(leaf) +
                                 " is not positive or too small for the cloud's extent");
-  // Voxels at multiples of the leaf (as PCL's VoxelGrid): any part of a cloud, a tile say, has
-  // the voxels of the whole cloud there.
-  const Eigen::Vector3d base = (box.min().cast<double>() / leaf).array().floor();
   std::unordered_map<std::uint64_t, std::int32_t> voxel;
   voxel.reserve(static_cast<std::size_t>(points.cols()) / 4);
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     if (!points.col(i).allFinite())
       continue;
-    const Eigen::Vector3d c = (points.col(i).cast<double>() / leaf).array().floor().matrix() - base;
+    const Eigen::Vector3d c = (points.col(i).cast<double>() - origin) / leaf;
     const auto key = (static_cast<std::uint64_t>(c.x()) << 42) |
                      (static_cast<std::uint64_t>(c.y()) << 21) | static_cast<std::uint64_t>(c.z());
     const auto [it, fresh] = voxel.try_emplace(key, static_cast<std::int32_t>(s.kept.size()));
@@ -54,48 +55,6 @@ Subsample voxelSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, double l
     s.representative[static_cast<std::size_t>(i)] = it->second;
   }
   return s;
-}
-
-double voxelLeafForTarget(const Eigen::Vector3d& box_sizes, std::size_t target,
-                          const std::function<std::size_t(double leaf)>& occupied) {
-  if (target == 0)
-    throw InvalidParameterError("voxel sampling: the target must be at least 1 point");
-  // Start as if the points covered a surface of the box's largest face, then correct by the
-  // count (kept ∝ leaf⁻² on surfaces).
-  Eigen::Vector3d size = box_sizes;
-  std::sort(size.data(), size.data() + 3);
-  double leaf = std::sqrt(std::max(size[1] * size[2], 1e-300) / static_cast<double>(target));
-  std::size_t kept = occupied(leaf);
-  for (int pass = 0; pass < 4; ++pass) {
-    const double ratio = static_cast<double>(kept) / static_cast<double>(target);
-    if (ratio > 0.9 && ratio < 1.1)
-      break;
-    leaf *= std::sqrt(ratio);
-    kept = occupied(leaf);
-  }
-  return leaf;
-}
-
-std::size_t occupiedVoxels(const Eigen::Ref<const Eigen::Matrix3Xd>& points, double leaf,
-                           const std::function<bool(const Eigen::Vector3d& corner)>& counts) {
-  struct Hash {
-    std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
-      return std::hash<std::int64_t>()(k[0] * 73856093 ^ k[1] * 19349663 ^ k[2] * 83492791);
-    }
-  };
-  std::unordered_set<std::array<std::int64_t, 3>, Hash> seen;
-  std::size_t n = 0;
-  for (Eigen::Index i = 0; i < points.cols(); ++i) {
-    if (!points.col(i).allFinite())
-      continue;
-    const Eigen::Vector3d c = (points.col(i) / leaf).array().floor();
-    const std::array<std::int64_t, 3> key{static_cast<std::int64_t>(c.x()),
-                                          static_cast<std::int64_t>(c.y()),
-                                          static_cast<std::int64_t>(c.z())};
-    if (seen.insert(key).second && counts(c * leaf))
-      ++n;
-  }
-  return n;
 }
 
 namespace {
@@ -173,7 +132,8 @@ Subsample randomSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::si
   return s;
 }
 
-Subsample voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target) {
+Subsample voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target,
+                        const std::optional<Eigen::Vector3d>& origin) {
   if (target == 0)
     throw InvalidParameterError("voxel sampling: the target must be at least 1 point");
   if (static_cast<std::size_t>(points.cols()) <= target) {
@@ -188,10 +148,54 @@ Subsample voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::s
   }
   Subsample s;
   voxelLeafForTarget(finiteBox(points).sizes().cast<double>(), target, [&](double leaf) {
-    s = voxelSample(points, leaf);  // the last call is at the leaf returned
+    s = voxelSample(points, leaf, origin);  // the last call is at the leaf returned
     return s.kept.size();
   });
   return s;
+}
+
+double voxelLeafForTarget(const Eigen::Vector3d& box_sizes, std::size_t target,
+                          const std::function<std::size_t(double leaf)>& occupied) {
+  if (target == 0)
+    throw InvalidParameterError("voxel sampling: the target must be at least 1 point");
+  // Start as if the points covered a surface of the box's largest face, then correct by the
+  // count (kept ∝ leaf⁻² on surfaces).
+  Eigen::Vector3d size = box_sizes;
+  std::sort(size.data(), size.data() + 3);
+  double leaf = std::sqrt(std::max(size[1] * size[2], 1e-300) / static_cast<double>(target));
+  std::size_t kept = occupied(leaf);
+  for (int pass = 0; pass < 4; ++pass) {
+    const double ratio = static_cast<double>(kept) / static_cast<double>(target);
+    if (ratio > 0.9 && ratio < 1.1)
+      break;
+    leaf *= std::sqrt(ratio);
+    kept = occupied(leaf);
+  }
+  return leaf;
+}
+
+std::size_t occupiedVoxels(const Eigen::Ref<const Eigen::Matrix3Xd>& points, double leaf,
+                           const Eigen::Vector3d& origin,
+                           const std::function<bool(const Eigen::Vector3d& corner)>& counts) {
+  struct Hash {
+    std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
+      return std::hash<std::int64_t>()((k[0] * 73856093) ^ (k[1] * 19349663) ^ (k[2] * 83492791));
+    }
+  };
+  std::unordered_set<std::array<std::int64_t, 3>, Hash> seen;
+  std::size_t n = 0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    if (!points.col(i).allFinite())
+      continue;
+    // voxelSample's arithmetic: the same voxel for the same point.
+    const Eigen::Vector3d c = ((points.col(i) - origin) / leaf).array().floor();
+    const std::array<std::int64_t, 3> key{static_cast<std::int64_t>(c.x()),
+                                          static_cast<std::int64_t>(c.y()),
+                                          static_cast<std::int64_t>(c.z())};
+    if (seen.insert(key).second && counts(origin + c * leaf))
+      ++n;
+  }
+  return n;
 }
 
 RepresentedMean representedMean(const Eigen::Ref<const Eigen::Matrix3Xf>& points,
@@ -226,7 +230,7 @@ Subsample subsample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, const Subs
   p.validate();
   if (p.mode == SubsampleMode::random)
     return randomSample(points, p.points, seed);
-  return p.leaf ? voxelSample(points, *p.leaf) : voxelSampleTo(points, p.points);
+  return p.leaf ? voxelSample(points, *p.leaf, p.origin) : voxelSampleTo(points, p.points, p.origin);
 }
 
 }  // namespace slipfit

@@ -43,6 +43,8 @@ struct SubsampleParameters {
   SubsampleMode mode = SubsampleMode::random;
   std::size_t points = 150000;  ///< about this many kept points
   std::optional<double> leaf;   ///< voxel mode: the voxel edge, overriding points
+  /// Voxel mode: the lowest corner of the voxel grid (unset: the cloud's own lowest corner).
+  std::optional<Eigen::Vector3d> origin;
   SubsamplePosition position = SubsamplePosition::mean;
 
   /// Each user-facing field with its one declaration (parameter_declaration.h).
@@ -61,6 +63,13 @@ struct SubsampleParameters {
                            .between(100, 1e9));
     visit(self.leaf,
           parameter("leaf", "Voxel mode: voxel edge; overrides points.").in("units").above(0));
+    visit(self.origin,
+          parameter("origin",
+                    "Voxel mode: the lowest corner of the voxel grid, in the input's frame "
+                    "(unset: the cloud's own lowest corner); every point must lie above it. A "
+                    "tiled run gives each tile the whole cloud's, so that its voxels are the "
+                    "untiled run's.")
+              .in("units"));
     visit(self.position,
           parameter("position",
                     "Voxel mode: where the analysis point lies. mean: at the centroid of its "
@@ -80,28 +89,30 @@ struct Subsample {
   std::vector<std::int32_t> representative;  ///< per input point: its position in `kept`
 };
 
-/// One point per occupied voxel of edge \a leaf (the first in index order: deterministic); the
-/// voxels lie at multiples of the leaf, as PCL's VoxelGrid places them, so that a part of a cloud
-/// (a tile) has the voxels of the whole cloud. Non-finite points are represented by nothing (−1).
-/// Throws InvalidParameterError for a leaf that is not positive or would overflow the 21-bit
-/// voxel keys.
-Subsample voxelSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, double leaf);
+/// One point per occupied voxel of edge \a leaf (the first in index order: deterministic), the
+/// voxels counted from \a origin (unset: the points' lowest corner); non-finite points are
+/// represented by nothing (−1). Throws InvalidParameterError for a leaf that is not positive or
+/// would overflow the 21-bit voxel keys, and for a point below the origin.
+Subsample voxelSample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, double leaf,
+                      const std::optional<Eigen::Vector3d>& origin = std::nullopt);
 
 /// voxelSample with the leaf adjusted (a few passes, each O(N)) so that about \a target points
 /// are kept; no subsampling (leaf 0, every point kept) when there are at most \a target points.
-Subsample voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target);
+Subsample voxelSampleTo(const Eigen::Ref<const Eigen::Matrix3Xf>& points, std::size_t target,
+                        const std::optional<Eigen::Vector3d>& origin = std::nullopt);
 
 /// voxelSampleTo's choice of the leaf: from the points' bounding box (\a box_sizes), then up to
-/// four corrections by the count of occupied voxels, which \a occupied(leaf) returns (for
-/// points held elsewhere: the tiles of an out-of-core run sum theirs). The last call is at the
-/// leaf returned.
+/// four corrections by the count of occupied voxels, which \a occupied(leaf) returns (for points
+/// held elsewhere: the tiles of an out-of-core run add theirs up). The last call is at the leaf
+/// returned.
 double voxelLeafForTarget(const Eigen::Vector3d& box_sizes, std::size_t target,
                           const std::function<std::size_t(double leaf)>& occupied);
 
-/// The voxels of edge \a leaf (at multiples of it) that hold at least one of \a points and
-/// whose lowest corner \a counts: a tile counts the voxels whose corner lies in its core, so
-/// that the tiles' counts add up to the whole cloud's.
+/// The voxels of edge \a leaf counted from \a origin (voxelSample's grid) that hold at least one
+/// of \a points and whose lowest corner \a counts: a tile counts those whose corner lies in its
+/// core, so that the tiles' counts add up to the whole cloud's.
 std::size_t occupiedVoxels(const Eigen::Ref<const Eigen::Matrix3Xd>& points, double leaf,
+                           const Eigen::Vector3d& origin,
                            const std::function<bool(const Eigen::Vector3d& corner)>& counts);
 
 /// The mean position of the input points each kept point stands for (its voxel's centroid in
