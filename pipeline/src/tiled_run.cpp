@@ -99,22 +99,33 @@ AnalysisBudgets analysisBudgets(const PipelineConfig& config, const TilingManife
     const Option* points = options.find("points");
     const Option* mode = options.find("mode");
     const Option* leaf = options.find("leaf");
-    if (!points || !mode || !leaf || leaf->defaultText() != "unset")
+    const Option* origin_option = options.find("origin");
+    if (!points || !mode || !leaf || !origin_option)
       continue;
     const double whole = std::stod(points->defaultText());
     if (mode->defaultText() != "voxel") {
-      budgets.shares.emplace_back(s.tag, whole);
+      if (leaf->defaultText() == "unset")
+        budgets.shares.emplace_back(s.tag, whole);
       continue;
     }
     if (!count)
       continue;
+    // The untiled run's grid: its lowest corner as the voxels' origin, unless one is given.
+    const Eigen::Vector3d origin(manifest.lo[0], manifest.lo[1], manifest.lo[2]);
+    std::ostringstream o;
+    o << std::setprecision(17);
+    if (origin_option->defaultText() == "unset") {
+      o << s.tag << ".origin=[" << origin.x() << ", " << origin.y() << ", " << origin.z() << "]";
+      budgets.every_tile.push_back(o.str());
+      o.str("");
+    }
+    if (leaf->defaultText() != "unset")
+      continue;  // a given leaf is every tile's
     if (whole >= static_cast<double>(manifest.points)) {
       budgets.every_tile.push_back(s.tag + ".points=" + std::to_string(manifest.points));
       continue;  // untiled, every point is analysed: so in every tile
     }
-    // The untiled run's grid: its box (sizes in float, as the stage sees float coordinates) and
-    // its lowest corner as the voxels' origin.
-    const Eigen::Vector3d origin(manifest.lo[0], manifest.lo[1], manifest.lo[2]);
+    // The untiled run's leaf search: its box (sizes in float, as the stage sees float coordinates).
     Eigen::Vector3d sizes;
     for (int a = 0; a < 3; ++a)
       sizes[a] = static_cast<double>(static_cast<float>(manifest.hi[a]) -
@@ -132,11 +143,7 @@ AnalysisBudgets analysisBudgets(const PipelineConfig& config, const TilingManife
           }
           return n;
         });
-    std::ostringstream o;
-    o << std::setprecision(17) << s.tag << ".leaf=" << chosen;
-    budgets.every_tile.push_back(o.str());
-    o.str("");
-    o << s.tag << ".origin=[" << origin.x() << ", " << origin.y() << ", " << origin.z() << "]";
+    o << s.tag << ".leaf=" << chosen;
     budgets.every_tile.push_back(o.str());
   }
   return budgets;
@@ -195,6 +202,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
         report << "tiling: reusing " << manifest.tiles.size() << " tiles in " << tiles_dir << "\n";
       } else {
         fs::remove(manifest_path);
+        fs::remove(dir + "/analysis");
         fs::remove_all(tiles_dir);
         fs::remove_all(runs_dir);
         progress.begin(1, 3, "tile " + config.input.path);
@@ -225,14 +233,27 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   failure.clear();
   if (work.leader()) {
     try {
-      budgets = analysisBudgets(config, manifest, grid, tiles_dir, true);
-      std::string text;
-      for (const auto& o : budgets.every_tile)
-        text += o + "\n";
-      // Runs of another config (or another analysis density) are not reused.
       std::string fingerprint = readText(config.path);
       for (const auto& o : overrides)
         fingerprint += "\n--set " + o;
+      // The leaf search reads every tile a few times: its result is kept for reruns of this
+      // config on these tiles (the file goes with the tiles when they are written anew).
+      const std::string cache = dir + "/analysis", key = fingerprint + "\n--\n";
+      std::string text = readText(cache);
+      if (text.rfind(key, 0) == 0) {
+        text = text.substr(key.size());
+        std::istringstream lines(text);
+        budgets.shares = analysisBudgets(config, manifest, grid, tiles_dir, false).shares;
+        for (std::string line; std::getline(lines, line);)
+          budgets.every_tile.push_back(line);
+      } else {
+        budgets = analysisBudgets(config, manifest, grid, tiles_dir, true);
+        text.clear();
+        for (const auto& o : budgets.every_tile)
+          text += o + "\n";
+        writeAtomically(cache, key + text);
+      }
+      // Runs of another config (or another analysis density) are not reused.
       fingerprint += "\n" + text;
       fs::create_directories(runs_dir);
       if (readText(runs_dir + "/config") != fingerprint) {

@@ -41,14 +41,22 @@ const StreamField* findField(const std::vector<StreamField>& fields, const std::
   return nullptr;
 }
 
-void copyFields(const std::vector<StreamField>& from, const char* source,
-                const std::vector<StreamField>& to, char* target) {
+RowCopy::RowCopy(const std::vector<StreamField>& from, const std::vector<StreamField>& to) {
   for (const StreamField& t : to) {
     const StreamField* f = findField(from, t.name);
     if (!f || f->bytes != t.bytes)
-      throw std::logic_error("copyFields: no field " + t.name + " of that size");
-    std::memcpy(target + t.offset, source + f->offset, t.bytes);
+      throw std::logic_error("RowCopy: no field " + t.name + " of that size");
+    if (!spans_.empty() && spans_.back().from + spans_.back().bytes == f->offset &&
+        spans_.back().to + spans_.back().bytes == t.offset)
+      spans_.back().bytes += t.bytes;  // adjacent in both rows: one copy
+    else
+      spans_.push_back({f->offset, t.offset, t.bytes});
   }
+}
+
+void RowCopy::apply(const char* source, char* target) const {
+  for (const Span& s : spans_)
+    std::memcpy(target + s.to, source + s.from, s.bytes);
 }
 
 namespace {
@@ -65,53 +73,49 @@ void store(char* p, double v) {
 }
 }  // namespace
 
-double fieldValue(const StreamField& f, const char* row) {
-  const char* p = row + f.offset;
-  const std::string& t = f.type;
-  if (t == "float")
-    return load<float>(p);
-  if (t == "double")
-    return load<double>(p);
-  if (t == "char")
-    return load<std::int8_t>(p);
-  if (t == "uchar")
-    return load<std::uint8_t>(p);
-  if (t == "short")
-    return load<std::int16_t>(p);
-  if (t == "ushort")
-    return load<std::uint16_t>(p);
-  if (t == "int")
-    return load<std::int32_t>(p);
-  if (t == "uint")
-    return load<std::uint32_t>(p);
-  if (t == "int64")
-    return static_cast<double>(load<std::int64_t>(p));
-  return static_cast<double>(load<std::uint64_t>(p));
+FieldAt fieldAt(const StreamField& f) {
+  static const std::pair<const char*, ValueKind> kKinds[] = {
+      {"char", ValueKind::i8},   {"uchar", ValueKind::u8},  {"short", ValueKind::i16},
+      {"ushort", ValueKind::u16}, {"int", ValueKind::i32},   {"uint", ValueKind::u32},
+      {"int64", ValueKind::i64},  {"uint64", ValueKind::u64}, {"float", ValueKind::f32},
+      {"double", ValueKind::f64}};
+  for (const auto& [name, kind] : kKinds)
+    if (f.type == name)
+      return {kind, f.offset};
+  throw std::invalid_argument("field " + f.name + " has type " + f.type);
 }
 
-void setFieldValue(const StreamField& f, char* row, double value) {
-  char* p = row + f.offset;
-  const std::string& t = f.type;
-  if (t == "float")
-    store<float>(p, value);
-  else if (t == "double")
-    store<double>(p, value);
-  else if (t == "char")
-    store<std::int8_t>(p, value);
-  else if (t == "uchar")
-    store<std::uint8_t>(p, value);
-  else if (t == "short")
-    store<std::int16_t>(p, value);
-  else if (t == "ushort")
-    store<std::uint16_t>(p, value);
-  else if (t == "int")
-    store<std::int32_t>(p, value);
-  else if (t == "uint")
-    store<std::uint32_t>(p, value);
-  else if (t == "int64")
-    store<std::int64_t>(p, value);
-  else
-    store<std::uint64_t>(p, value);
+double FieldAt::get(const char* row) const {
+  const char* p = row + offset;
+  switch (kind) {
+    case ValueKind::i8: return load<std::int8_t>(p);
+    case ValueKind::u8: return load<std::uint8_t>(p);
+    case ValueKind::i16: return load<std::int16_t>(p);
+    case ValueKind::u16: return load<std::uint16_t>(p);
+    case ValueKind::i32: return load<std::int32_t>(p);
+    case ValueKind::u32: return load<std::uint32_t>(p);
+    case ValueKind::i64: return static_cast<double>(load<std::int64_t>(p));
+    case ValueKind::u64: return static_cast<double>(load<std::uint64_t>(p));
+    case ValueKind::f32: return load<float>(p);
+    case ValueKind::f64: return load<double>(p);
+  }
+  return 0.0;
+}
+
+void FieldAt::set(char* row, double value) const {
+  char* p = row + offset;
+  switch (kind) {
+    case ValueKind::i8: return store<std::int8_t>(p, value);
+    case ValueKind::u8: return store<std::uint8_t>(p, value);
+    case ValueKind::i16: return store<std::int16_t>(p, value);
+    case ValueKind::u16: return store<std::uint16_t>(p, value);
+    case ValueKind::i32: return store<std::int32_t>(p, value);
+    case ValueKind::u32: return store<std::uint32_t>(p, value);
+    case ValueKind::i64: return store<std::int64_t>(p, value);
+    case ValueKind::u64: return store<std::uint64_t>(p, value);
+    case ValueKind::f32: return store<float>(p, value);
+    case ValueKind::f64: return store<double>(p, value);
+  }
 }
 
 void writeOrFail(std::ofstream& out, const char* bytes, std::size_t size, const std::string& path) {

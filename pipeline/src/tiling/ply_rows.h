@@ -22,17 +22,33 @@ std::vector<StreamField> withoutFields(const std::vector<StreamField>& all,
 /// The field named \a name of \a fields, or nullptr.
 const StreamField* findField(const std::vector<StreamField>& fields, const std::string& name);
 
-/// Copies each of \a from's fields that \a to also has from the row at \a source to the row at
-/// \a target (by name; each to-field must exist in from).
-void copyFields(const std::vector<StreamField>& from, const char* source,
-                const std::vector<StreamField>& to, char* target);
+/// A numeric PLY type, decided once per field rather than per value.
+enum class ValueKind : std::uint8_t { i8, u8, i16, u16, i32, u32, i64, u64, f32, f64 };
 
-/// A value of a little-endian row, converted to double (any numeric PLY type).
-double fieldValue(const StreamField& field, const char* row);
+/// Reads and writes one field of little-endian rows, converting to and from double (an integer
+/// field takes a written value rounded toward zero).
+struct FieldAt {
+  ValueKind kind = ValueKind::f64;
+  std::uint64_t offset = 0;
+  double get(const char* row) const;
+  void set(char* row, double value) const;
+};
+/// Throws std::invalid_argument for a type that is not a PLY scalar (or int64/uint64).
+FieldAt fieldAt(const StreamField& field);
 
-/// Writes \a value at \a field of \a row, converted to the field's type (an integer type takes
-/// the value rounded toward zero).
-void setFieldValue(const StreamField& field, char* row, double value);
+/// Copies the fields of \a to from rows laid out as \a from (by name; each must exist there with
+/// the same size), as a few contiguous spans.
+class RowCopy {
+ public:
+  RowCopy(const std::vector<StreamField>& from, const std::vector<StreamField>& to);
+  void apply(const char* source, char* target) const;
+
+ private:
+  struct Span {
+    std::uint64_t from, to, bytes;
+  };
+  std::vector<Span> spans_;
+};
 
 /// Writes \a bytes to \a out; throws RunError naming \a path when the write fails (disk full).
 void writeOrFail(std::ofstream& out, const char* bytes, std::size_t size, const std::string& path);

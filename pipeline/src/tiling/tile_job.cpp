@@ -16,12 +16,12 @@ namespace slipfit::pipeline::tiling {
 
 namespace {
 
-const StreamField& needField(const std::vector<StreamField>& fields, const std::string& name,
-                             const std::string& path) {
+FieldAt needField(const std::vector<StreamField>& fields, const std::string& name,
+                  const std::string& path) {
   const StreamField* f = findField(fields, name);
   if (!f)
     throw RunError("'" + path + "': no field " + name);
-  return *f;
+  return fieldAt(*f);
 }
 
 template <typename T>
@@ -51,14 +51,14 @@ void summariseTile(const std::string& run_dir, const std::string& segments_ply,
   const std::string ply = run_dir + "/" + segments_ply;
   CloudStream in(ply);
   const auto& fields = in.fields();
-  const StreamField& row_f = needField(fields, "tile_row", ply);
-  const StreamField& core_f = needField(fields, "tile_core", ply);
-  const StreamField& label_f = needField(fields, "label", ply);
-  const StreamField& type_f = needField(fields, "primitive", ply);
-  const StreamField* xyz[3] = {&needField(fields, "x", ply), &needField(fields, "y", ply),
-                               &needField(fields, "z", ply)};
-  const StreamField* nxyz[3] = {&needField(fields, "nx", ply), &needField(fields, "ny", ply),
-                                &needField(fields, "nz", ply)};
+  const FieldAt row_f = needField(fields, "tile_row", ply);
+  const FieldAt core_f = needField(fields, "tile_core", ply);
+  const FieldAt label_f = needField(fields, "label", ply);
+  const FieldAt type_f = needField(fields, "primitive", ply);
+  const FieldAt xyz[3] = {needField(fields, "x", ply), needField(fields, "y", ply),
+                          needField(fields, "z", ply)};
+  const FieldAt nxyz[3] = {needField(fields, "nx", ply), needField(fields, "ny", ply),
+                           needField(fields, "nz", ply)};
 
   TileLabels l;
   const auto n = static_cast<std::size_t>(in.size());
@@ -70,12 +70,12 @@ void summariseTile(const std::string& run_dir, const std::string& segments_ply,
   std::map<std::int32_t, TileSegment> segments;
   for (std::size_t k = 0; k < n; ++k) {
     const char* row = rows.data() + k * in.recordBytes();
-    l.rows[k] = static_cast<std::uint64_t>(fieldValue(row_f, row));
-    l.labels[k] = static_cast<std::int32_t>(fieldValue(label_f, row));
-    l.core[k] = fieldValue(core_f, row) != 0.0 ? 1 : 0;
+    l.rows[k] = static_cast<std::uint64_t>(row_f.get(row));
+    l.labels[k] = static_cast<std::int32_t>(label_f.get(row));
+    l.core[k] = core_f.get(row) != 0.0 ? 1 : 0;
     if (l.labels[k] >= 0) {
       TileSegment& s = segments[l.labels[k]];
-      s.type = static_cast<int>(fieldValue(type_f, row));
+      s.type = static_cast<int>(type_f.get(row));
       s.core_points += l.core[k];
     }
   }
@@ -131,10 +131,10 @@ void summariseTile(const std::string& run_dir, const std::string& segments_ply,
       continue;
     const char* row = rows.data() + k * in.recordBytes();
     sample_labels.push_back(l.labels[k]);
-    for (const StreamField* f : xyz)
-      sample_values.push_back(fieldValue(*f, row));
-    for (const StreamField* f : nxyz)
-      sample_values.push_back(fieldValue(*f, row));
+    for (const FieldAt& f : xyz)
+      sample_values.push_back(f.get(row));
+    for (const FieldAt& f : nxyz)
+      sample_values.push_back(f.get(row));
     // This sample stands for the core points up to the next one.
     const std::uint64_t taken_before = (seen[l.labels[k]] - 1) / stride;
     const std::uint64_t covers = std::min(stride, total - taken_before * stride);

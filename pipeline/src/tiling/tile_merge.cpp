@@ -136,11 +136,17 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
     id_of_root[roots[k]] = static_cast<std::int32_t>(k);
   }
   by_root.clear();
+  // Each tile's labels → the whole cloud's (−1: a piece that owns no point).
+  std::vector<std::vector<std::int32_t>> global(tiles);
+  for (std::size_t t = 0; t < tiles; ++t)
+    for (std::size_t l = 0; l < pieces[t].size(); ++l)
+      global[t].push_back(pieces[t][l].core_points == 0
+                              ? -1
+                              : id_of_root.at(sets.find(first[t] + l)));
   const auto idOf = [&](std::size_t t, std::int32_t label) -> std::int32_t {
-    if (label < 0 || static_cast<std::size_t>(label) >= pieces[t].size() ||
-        pieces[t][static_cast<std::size_t>(label)].core_points == 0)
-      return -1;
-    return id_of_root.at(sets.find(first[t] + static_cast<std::size_t>(label)));
+    return label < 0 || static_cast<std::size_t>(label) >= global[t].size()
+               ? -1
+               : global[t][static_cast<std::size_t>(label)];
   };
 
   // Refits on the union of the pieces' samples, each segment as soon as its last piece is read.
@@ -186,15 +192,18 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
       } else if (kept.size() != fields.size()) {
         throw RunError("'" + ply + "': its fields differ from the first tile's");
       }
-      const StreamField* core = findField(in.fields(), "tile_core");
-      const StreamField* label = findField(fields, "label");
-      const StreamField* type = findField(fields, "primitive");
-      const StreamField* colour[3] = {findField(fields, "red"), findField(fields, "green"),
-                                      findField(fields, "blue")};
-      const StreamField* xyz[3] = {findField(fields, "x"), findField(fields, "y"),
-                                   findField(fields, "z")};
-      if (!core || !label || !type || !colour[0] || !colour[1] || !colour[2])
+      const StreamField* core_f = findField(in.fields(), "tile_core");
+      const StreamField* label_f = findField(fields, "label");
+      const StreamField* type_f = findField(fields, "primitive");
+      const StreamField* rgb_f[3] = {findField(fields, "red"), findField(fields, "green"),
+                                     findField(fields, "blue")};
+      if (!core_f || !label_f || !type_f || !rgb_f[0] || !rgb_f[1] || !rgb_f[2])
         throw RunError("'" + ply + "': not a segmentation output of a tile");
+      const FieldAt core = fieldAt(*core_f), label = fieldAt(*label_f), type = fieldAt(*type_f);
+      const FieldAt colour[3] = {fieldAt(*rgb_f[0]), fieldAt(*rgb_f[1]), fieldAt(*rgb_f[2])};
+      const FieldAt xyz[3] = {fieldAt(*findField(fields, "x")), fieldAt(*findField(fields, "y")),
+                              fieldAt(*findField(fields, "z"))};
+      const RowCopy copy(in.fields(), fields);
       const std::uint64_t bytes = fields.back().offset + fields.back().bytes;
       constexpr std::uint64_t kChunk = 1u << 16;
       for (std::uint64_t r0 = 0; r0 < in.size(); r0 += kChunk) {
@@ -203,26 +212,25 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
         row_out.clear();
         for (std::uint64_t r = 0; r < n; ++r) {
           const char* row = rows.data() + r * in.recordBytes();
-          if (fieldValue(*core, row) == 0.0)
+          if (core.get(row) == 0.0)
             continue;
           const std::size_t at = row_out.size();
           row_out.resize(at + bytes);
           char* o = row_out.data() + at;
-          copyFields(in.fields(), row, fields, o);
-          const std::int32_t g = idOf(t, static_cast<std::int32_t>(fieldValue(*label, o)));
-          setFieldValue(*label, o, g);
+          copy.apply(row, o);
+          const std::int32_t g = idOf(t, static_cast<std::int32_t>(label.get(o)));
+          label.set(o, g);
           const Rgb c = g < 0 ? kUnassignedColour : segmentColour(static_cast<std::size_t>(g));
           for (int a = 0; a < 3; ++a)
-            setFieldValue(*colour[a], o, c[static_cast<std::size_t>(a)]);
+            colour[a].set(o, c[static_cast<std::size_t>(a)]);
           ++summary.points;
           if (g < 0) {
-            setFieldValue(*type, o, -1);
+            type.set(o, -1);
             continue;
           }
           Joined& j = joined[static_cast<std::size_t>(g)];
-          setFieldValue(*type, o, static_cast<double>(j.fit.type));
-          const Eigen::Vector3d p(fieldValue(*xyz[0], o), fieldValue(*xyz[1], o),
-                                  fieldValue(*xyz[2], o));
+          type.set(o, static_cast<double>(j.fit.type));
+          const Eigen::Vector3d p(xyz[0].get(o), xyz[1].get(o), xyz[2].get(o));
           const double d = j.fit.ok() ? distance(p - origin, j.fit.refined) : 0.0;
           j.sum_squares += d * d;
           j.max_distance = std::max(j.max_distance, d);

@@ -27,16 +27,17 @@ constexpr std::size_t kBufferedBytes = std::size_t{32} << 20;  // all tiles' wri
 
 /// The input's coordinates of each row of a chunk.
 struct Coordinates {
-  const StreamField *x, *y, *z;
+  FieldAt x, y, z;
   void at(const char* row, double& px, double& py, double& pz) const {
-    px = fieldValue(*x, row);
-    py = fieldValue(*y, row);
-    pz = fieldValue(*z, row);
+    px = x.get(row);
+    py = y.get(row);
+    pz = z.get(row);
   }
 };
 
 Coordinates coordinatesOf(const std::vector<StreamField>& fields) {
-  return {findField(fields, "x"), findField(fields, "y"), findField(fields, "z")};
+  return {fieldAt(*findField(fields, "x")), fieldAt(*findField(fields, "y")),
+          fieldAt(*findField(fields, "z"))};
 }
 
 /// Reads every row of \a in in chunks; \a visit(row index, row bytes, x, y, z) for rows with
@@ -178,11 +179,11 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
   }
   std::size_t buffered = 0;
   std::vector<char> row_out(tile_row_bytes);
-  const std::vector<StreamField> copied = withoutFields(fields, {"tile_row", "tile_core"});
+  const RowCopy copy(in.fields(), withoutFields(fields, {"tile_row", "tile_core"}));
   forEachRow(
       in, input, nan,
       [&](std::uint64_t index, const char* row, double x, double y, double) {
-        copyFields(in.fields(), row, copied, row_out.data());
+        copy.apply(row, row_out.data());
         const double row_index = static_cast<double>(index);
         std::memcpy(row_out.data() + kept_bytes, &row_index, 8);
         const TileKey own = grid.owner(x, y);
