@@ -6,8 +6,8 @@
 //
 // TRUTH.ply carries the field truth_label (and truth_type); RESULT_DIR holds segments.ply (fields
 // label and primitive, and the truth's fields when the tool carried them through: then those are
-// used, in the result's point order) and primitives.yaml — slipfit's segmentation stage and bench/cgal_ransac both write
-// them. Prints one line of key=value pairs.
+// used, in the result's point order) and primitives.yaml — slipfit's segmentation stage and
+// bench/cgal_ransac both write them. Prints one line of key=value pairs.
 #include "slipfit/core/angle_units.h"
 #include "slipfit/sampling/scene_sampler.h"
 #include "slipfit/segmentation/segmentation_metrics.h"

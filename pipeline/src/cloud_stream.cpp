@@ -35,8 +35,8 @@ std::vector<std::string> words(const std::string& line) {
 /// The PLY type name of either spelling in its short form (float32 -> float, ...).
 std::string canonicalType(const std::string& type) {
   static const std::pair<const char*, const char*> kLong[] = {
-      {"int8", "char"},   {"uint8", "uchar"}, {"int16", "short"},   {"uint16", "ushort"},
-      {"int32", "int"},   {"uint32", "uint"}, {"float32", "float"}, {"float64", "double"}};
+      {"int8", "char"}, {"uint8", "uchar"}, {"int16", "short"},   {"uint16", "ushort"},
+      {"int32", "int"}, {"uint32", "uint"}, {"float32", "float"}, {"float64", "double"}};
   for (const auto& [from, to] : kLong)
     if (type == from)
       return to;
@@ -51,11 +51,16 @@ std::string pcdFieldType(const std::string& type, std::uint64_t size) {
   if (!is_signed && type != "U")
     return "";
   switch (size) {
-    case 1: return is_signed ? "char" : "uchar";
-    case 2: return is_signed ? "short" : "ushort";
-    case 4: return is_signed ? "int" : "uint";
-    case 8: return is_signed ? "int64" : "uint64";
-    default: return "";
+    case 1:
+      return is_signed ? "char" : "uchar";
+    case 2:
+      return is_signed ? "short" : "ushort";
+    case 4:
+      return is_signed ? "int" : "uint";
+    case 8:
+      return is_signed ? "int64" : "uint64";
+    default:
+      return "";
   }
 }
 
@@ -406,8 +411,8 @@ void CloudStream::readAsciiRecords(std::uint64_t first, std::uint64_t count,
            " values, the header announces " + std::to_string(columns_));
     for (std::size_t f = 0; f < fields_.size(); ++f)
       if (!packValue(fields_[f].type, w[f], rows.data() + r * record_bytes_ + fields_[f].offset))
-        fail("row " + std::to_string(next_row_) + ": '" + w[f] + "' is not a " +
-             fields_[f].type + " (" + fields_[f].name + ")");
+        fail("row " + std::to_string(next_row_) + ": '" + w[f] + "' is not a " + fields_[f].type +
+             " (" + fields_[f].name + ")");
   }
 }
 

@@ -218,8 +218,8 @@ class Loader {
         return;
       }
     }
-    fail("--set " + text + ": no stage is tagged '" + section +
-         "'; tags: " + (tags.empty() ? "none" : tags) + " (and the sections input, output, tiling)");
+    fail("--set " + text + ": no stage is tagged '" + section + "'; tags: " +
+         (tags.empty() ? "none" : tags) + " (and the sections input, output, tiling)");
   }
 
   static std::string stageTag(const YAML::Node& node) {

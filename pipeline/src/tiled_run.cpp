@@ -130,19 +130,18 @@ AnalysisBudgets analysisBudgets(const PipelineConfig& config, const TilingManife
     for (int a = 0; a < 3; ++a)
       sizes[a] = static_cast<double>(static_cast<float>(manifest.hi[a]) -
                                      static_cast<float>(manifest.lo[a]));
-    const double chosen = voxelLeafForTarget(
-        sizes, static_cast<std::size_t>(whole), [&](double l) {
-          std::size_t n = 0;
-          for (const TileInfo& t : manifest.tiles) {
-            CloudStream in(tiles_dir + "/" + t.name() + ".ply");
-            Eigen::Matrix3Xd xyz;
-            in.read(0, in.size(), xyz);
-            n += occupiedVoxels(xyz, l, origin, [&](const Eigen::Vector3d& corner) {
-              return grid.owner(corner.x(), corner.y()) == t.key;
-            });
-          }
-          return n;
+    const double chosen = voxelLeafForTarget(sizes, static_cast<std::size_t>(whole), [&](double l) {
+      std::size_t n = 0;
+      for (const TileInfo& t : manifest.tiles) {
+        CloudStream in(tiles_dir + "/" + t.name() + ".ply");
+        Eigen::Matrix3Xd xyz;
+        in.read(0, in.size(), xyz);
+        n += occupiedVoxels(xyz, l, origin, [&](const Eigen::Vector3d& corner) {
+          return grid.owner(corner.x(), corner.y()) == t.key;
         });
+      }
+      return n;
+    });
     o << s.tag << ".leaf=" << chosen;
     budgets.every_tile.push_back(o.str());
   }
@@ -156,8 +155,7 @@ std::string workDirectory(const PipelineConfig& config) {
   if (fs::exists(dir)) {
     if (!fs::is_directory(dir))
       throw RunError("tiling.workdir '" + dir + "' is not a directory");
-    if (!fs::is_empty(dir) && !fs::exists(dir + "/manifest.yaml") &&
-        !fs::exists(dir + "/tiles"))
+    if (!fs::is_empty(dir) && !fs::exists(dir + "/manifest.yaml") && !fs::exists(dir + "/tiles"))
       throw RunError("tiling.workdir '" + dir +
                      "' holds files that are not a tiled run's; give an empty or new directory");
   }
@@ -213,8 +211,8 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
         report << "tiling: " << manifest.points << " points";
         if (manifest.dropped)
           report << " (" << manifest.dropped << " with a non-finite coordinate dropped)";
-        report << " into " << manifest.tiles.size() << " tiles of " << grid.size()
-               << " (buffer " << grid.buffer() << ") in " << tiles_dir << ", " << std::fixed
+        report << " into " << manifest.tiles.size() << " tiles of " << grid.size() << " (buffer "
+               << grid.buffer() << ") in " << tiles_dir << ", " << std::fixed
                << std::setprecision(2) << seconds(start) << " s\n"
                << std::defaultfloat;
       }
@@ -292,8 +290,9 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       const std::string run_dir = runs_dir + "/" + tile.name();
       if (tileDone(run_dir))
         return;
-      progress.begin(2, 3, "tile " + std::to_string(t + 1) + "/" +
-                               std::to_string(manifest.tiles.size()) + " (" + tile.name() + ")");
+      progress.begin(2, 3,
+                     "tile " + std::to_string(t + 1) + "/" + std::to_string(manifest.tiles.size()) +
+                         " (" + tile.name() + ")");
       std::vector<std::string> o = tile_overrides;
       for (const std::string& budget : budgets.forTile(tile.points, manifest.points))
         o.push_back(budget);
@@ -330,8 +329,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       progress.begin(3, 3, "merge " + std::to_string(manifest.tiles.size()) + " tiles");
       OutputFiles outputs(config.output.dir);
       outputs.protect(config.input.path);
-      const MergeSummary s =
-          mergeTiles(manifest, runs_dir, segments_name, report_name, outputs);
+      const MergeSummary s = mergeTiles(manifest, runs_dir, segments_name, report_name, outputs);
       written = outputs.commit();
       progress.end();
       report << "segmentation: " << s.segments << " segments from " << s.pieces

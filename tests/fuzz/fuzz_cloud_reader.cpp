@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <vector>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0)
@@ -35,6 +36,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::uint64_t head = std::min<std::uint64_t>(stream.size(), 4096);
     stream.read(0, head, xyz);
     stream.read(head, std::min<std::uint64_t>(stream.size() - head, 16), xyz);
+  } catch (const slipfit::pipeline::RunError&) {
+  }
+  try {  // whole rows, as the tiler copies them: every field of every row within the buffer
+    slipfit::pipeline::CloudStream stream(path);
+    std::vector<char> rows;
+    const std::uint64_t head = std::min<std::uint64_t>(stream.size(), 4096);
+    stream.readRecords(0, head, rows);
+    if (rows.size() != head * stream.recordBytes())
+      std::abort();
+    for (const auto& f : stream.fields())
+      if (f.offset + f.bytes > stream.recordBytes())
+        std::abort();
   } catch (const slipfit::pipeline::RunError&) {
   }
   return 0;

@@ -140,6 +140,33 @@ TEST(CloudStream, BigEndianDoublesKeepTheirPrecision) {
   }
 }
 
+TEST(CloudStream, AsciiRowsAreCheckedAgainstTheirTypes) {
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nproperty uchar intensity\nproperty int label\nend_header\n";
+  std::vector<char> rows;
+  CloudStream good(testing::scratchFile("types.ply", header + "1 2 3 255 -7\n4 5 6 0 2147483647\n"
+                                                              "7 8 9 12 0\n"));
+  good.readRecords(0, 3, rows);
+  ASSERT_EQ(rows.size(), 3u * 17u);
+  EXPECT_EQ(static_cast<unsigned char>(rows[12]), 255u);
+  std::int32_t label;
+  std::memcpy(&label, rows.data() + 13, 4);
+  EXPECT_EQ(label, -7);
+  std::memcpy(&label, rows.data() + 17 + 13, 4);
+  EXPECT_EQ(label, 2147483647);
+  for (const std::string& bad :
+       {"1 2 3 256 0\n", "1 2 3 -1 0\n", "1 2 3 1.5 0\n", "1 2 3 1 2147483648\n", "1 2 x 1 0\n"}) {
+    CloudStream s(testing::scratchFile("bad_types.ply", header + bad + bad + bad));
+    try {
+      s.readRecords(0, 1, rows);
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const RunError& e) {
+      EXPECT_NE(std::string(e.what()).find("row 0: '"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(CloudStream, RefusesWhatItCannotReadByRows) {
   const auto refused = [](const std::string& name, const std::string& text,
                           const std::string& why) {

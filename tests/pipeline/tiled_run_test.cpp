@@ -182,8 +182,8 @@ TEST(TiledRun, ARerunResumesAfterTheFinishedTilesWithTheSameOutputs) {
   r = runSlipfit(run.args);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("tiling: reusing " + std::to_string(tiles) + " tiles"));
-  EXPECT_THAT(r.out, HasSubstr("tiling: 2 tiles run, " + std::to_string(tiles - 2) +
-                               " already done"));
+  EXPECT_THAT(r.out,
+              HasSubstr("tiling: 2 tiles run, " + std::to_string(tiles - 2) + " already done"));
   EXPECT_EQ(slurp(run.out + "/segments.ply"), segments);
   EXPECT_EQ(slurp(run.out + "/primitives.yaml"), report);
   // Another config: no tile run is reused (the tiles are).
@@ -223,8 +223,8 @@ TEST(TiledRun, FailuresSayWhatFailedAndWriteNoOutput) {
   const std::string foreign = scratchDir("tiled_foreign");
   fs::create_directories(foreign + "/work");
   std::ofstream(foreign + "/work/notes.txt") << "mine\n";
-  r = runSlipfit(run.args + " --set tiling.workdir=" + foreign + "/work --set output.dir=" +
-                 foreign + "/out");
+  r = runSlipfit(run.args + " --set tiling.workdir=" + foreign +
+                 "/work --set output.dir=" + foreign + "/out");
   EXPECT_EQ(r.code, 1);
   EXPECT_THAT(r.err, HasSubstr("not a tiled run's"));
   EXPECT_EQ(slurp(foreign + "/work/notes.txt"), "mine\n");
@@ -232,8 +232,8 @@ TEST(TiledRun, FailuresSayWhatFailedAndWriteNoOutput) {
 
   // A full disk while the tiles are written: one line, no outputs.
   const std::string full = scratchDir("tiled_full");
-  r = runSlipfit("run configs/demo.yaml --set input.path=" + run.cloud + " --set output.dir=" +
-                     full + " --set tiling.size=4",
+  r = runSlipfit("run configs/demo.yaml --set input.path=" + run.cloud +
+                     " --set output.dir=" + full + " --set tiling.size=4",
                  "trap '' XFSZ; ulimit -f 200;");
   EXPECT_EQ(r.code, 1);
   EXPECT_THAT(r.err, HasSubstr("write failed (disk full?)"));

@@ -75,8 +75,8 @@ void store(char* p, double v) {
 
 FieldAt fieldAt(const StreamField& f) {
   static const std::pair<const char*, ValueKind> kKinds[] = {
-      {"char", ValueKind::i8},   {"uchar", ValueKind::u8},  {"short", ValueKind::i16},
-      {"ushort", ValueKind::u16}, {"int", ValueKind::i32},   {"uint", ValueKind::u32},
+      {"char", ValueKind::i8},    {"uchar", ValueKind::u8},   {"short", ValueKind::i16},
+      {"ushort", ValueKind::u16}, {"int", ValueKind::i32},    {"uint", ValueKind::u32},
       {"int64", ValueKind::i64},  {"uint64", ValueKind::u64}, {"float", ValueKind::f32},
       {"double", ValueKind::f64}};
   for (const auto& [name, kind] : kKinds)
@@ -88,16 +88,26 @@ FieldAt fieldAt(const StreamField& f) {
 double FieldAt::get(const char* row) const {
   const char* p = row + offset;
   switch (kind) {
-    case ValueKind::i8: return load<std::int8_t>(p);
-    case ValueKind::u8: return load<std::uint8_t>(p);
-    case ValueKind::i16: return load<std::int16_t>(p);
-    case ValueKind::u16: return load<std::uint16_t>(p);
-    case ValueKind::i32: return load<std::int32_t>(p);
-    case ValueKind::u32: return load<std::uint32_t>(p);
-    case ValueKind::i64: return static_cast<double>(load<std::int64_t>(p));
-    case ValueKind::u64: return static_cast<double>(load<std::uint64_t>(p));
-    case ValueKind::f32: return load<float>(p);
-    case ValueKind::f64: return load<double>(p);
+    case ValueKind::i8:
+      return load<std::int8_t>(p);
+    case ValueKind::u8:
+      return load<std::uint8_t>(p);
+    case ValueKind::i16:
+      return load<std::int16_t>(p);
+    case ValueKind::u16:
+      return load<std::uint16_t>(p);
+    case ValueKind::i32:
+      return load<std::int32_t>(p);
+    case ValueKind::u32:
+      return load<std::uint32_t>(p);
+    case ValueKind::i64:
+      return static_cast<double>(load<std::int64_t>(p));
+    case ValueKind::u64:
+      return static_cast<double>(load<std::uint64_t>(p));
+    case ValueKind::f32:
+      return load<float>(p);
+    case ValueKind::f64:
+      return load<double>(p);
   }
   return 0.0;
 }
@@ -105,16 +115,26 @@ double FieldAt::get(const char* row) const {
 void FieldAt::set(char* row, double value) const {
   char* p = row + offset;
   switch (kind) {
-    case ValueKind::i8: return store<std::int8_t>(p, value);
-    case ValueKind::u8: return store<std::uint8_t>(p, value);
-    case ValueKind::i16: return store<std::int16_t>(p, value);
-    case ValueKind::u16: return store<std::uint16_t>(p, value);
-    case ValueKind::i32: return store<std::int32_t>(p, value);
-    case ValueKind::u32: return store<std::uint32_t>(p, value);
-    case ValueKind::i64: return store<std::int64_t>(p, value);
-    case ValueKind::u64: return store<std::uint64_t>(p, value);
-    case ValueKind::f32: return store<float>(p, value);
-    case ValueKind::f64: return store<double>(p, value);
+    case ValueKind::i8:
+      return store<std::int8_t>(p, value);
+    case ValueKind::u8:
+      return store<std::uint8_t>(p, value);
+    case ValueKind::i16:
+      return store<std::int16_t>(p, value);
+    case ValueKind::u16:
+      return store<std::uint16_t>(p, value);
+    case ValueKind::i32:
+      return store<std::int32_t>(p, value);
+    case ValueKind::u32:
+      return store<std::uint32_t>(p, value);
+    case ValueKind::i64:
+      return store<std::int64_t>(p, value);
+    case ValueKind::u64:
+      return store<std::uint64_t>(p, value);
+    case ValueKind::f32:
+      return store<float>(p, value);
+    case ValueKind::f64:
+      return store<double>(p, value);
   }
 }
 

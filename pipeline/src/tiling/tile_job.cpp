@@ -30,10 +30,10 @@ void writeArray(std::ofstream& out, const std::vector<T>& values, const std::str
 }
 
 template <typename T>
-void readArray(std::ifstream& in, std::vector<T>& values, std::uint64_t n, const std::string& path) {
+void readArray(std::ifstream& in, std::vector<T>& values, std::uint64_t n,
+               const std::string& path) {
   values.resize(n);
-  if (!in.read(reinterpret_cast<char*>(values.data()),
-               static_cast<std::streamsize>(n * sizeof(T))))
+  if (!in.read(reinterpret_cast<char*>(values.data()), static_cast<std::streamsize>(n * sizeof(T))))
     throw RunError("'" + path + "': truncated");
 }
 

@@ -140,9 +140,8 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
   std::vector<std::vector<std::int32_t>> global(tiles);
   for (std::size_t t = 0; t < tiles; ++t)
     for (std::size_t l = 0; l < pieces[t].size(); ++l)
-      global[t].push_back(pieces[t][l].core_points == 0
-                              ? -1
-                              : id_of_root.at(sets.find(first[t] + l)));
+      global[t].push_back(pieces[t][l].core_points == 0 ? -1
+                                                        : id_of_root.at(sets.find(first[t] + l)));
   const auto idOf = [&](std::size_t t, std::int32_t label) -> std::int32_t {
     return label < 0 || static_cast<std::size_t>(label) >= global[t].size()
                ? -1
@@ -150,9 +149,8 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
   };
 
   // Refits on the union of the pieces' samples, each segment as soon as its last piece is read.
-  const Eigen::Vector3d origin =
-      globalShift(Eigen::Vector3d(m.lo[0], m.lo[1], m.lo[2]),
-                  Eigen::Vector3d(m.hi[0], m.hi[1], m.hi[2]));
+  const Eigen::Vector3d origin = globalShift(Eigen::Vector3d(m.lo[0], m.lo[1], m.lo[2]),
+                                             Eigen::Vector3d(m.hi[0], m.hi[1], m.hi[2]));
   for (std::size_t t = 0; t < tiles; ++t) {
     const TileSamples s = readTileSamples(dirOf(t));
     for (std::size_t k = 0; k < s.labels.size(); ++k) {

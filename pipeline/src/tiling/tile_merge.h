@@ -14,11 +14,11 @@
 namespace slipfit::pipeline::tiling {
 
 struct MergeSummary {
-  std::size_t segments = 0;     ///< of the whole cloud
-  std::size_t pieces = 0;       ///< per-tile segments that own points
-  std::size_t joins = 0;        ///< pairs of pieces joined across tiles
-  std::uint64_t points = 0;     ///< written
-  std::uint64_t assigned = 0;   ///< of those, in a segment
+  std::size_t segments = 0;    ///< of the whole cloud
+  std::size_t pieces = 0;      ///< per-tile segments that own points
+  std::size_t joins = 0;       ///< pairs of pieces joined across tiles
+  std::uint64_t points = 0;    ///< written
+  std::uint64_t assigned = 0;  ///< of those, in a segment
 };
 
 /// Merges the finished runs of \a manifest's tiles in \a runs_dir (one directory per tile) into

@@ -234,8 +234,7 @@ std::string manifestText(const TilingManifest& m) {
       << m.hi[2] << YAML::EndSeq;
   out << YAML::Key << "tiles" << YAML::Value << YAML::BeginSeq;
   for (const TileInfo& t : m.tiles)
-    out << YAML::Flow << YAML::BeginSeq << t.key.i << t.key.j << t.points << t.core
-        << YAML::EndSeq;
+    out << YAML::Flow << YAML::BeginSeq << t.key.i << t.key.j << t.points << t.core << YAML::EndSeq;
   out << YAML::EndSeq << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }

@@ -16,8 +16,7 @@ namespace slipfit::pipeline::tiling {
 namespace {
 /// Started by mpirun (Open MPI sets OMPI_COMM_WORLD_SIZE; PMI launchers PMI_SIZE / PMIX_RANK).
 bool launchedByMpirun() {
-  return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") ||
-         std::getenv("PMIX_RANK");
+  return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") || std::getenv("PMIX_RANK");
 }
 }  // namespace
 
@@ -118,7 +117,9 @@ void WorkDistribution::shareFailure(const std::string& failure) {
     throw RunError(failure);
 }
 
-std::size_t WorkDistribution::sum(std::size_t value) { return value; }
+std::size_t WorkDistribution::sum(std::size_t value) {
+  return value;
+}
 
 #endif
 

@@ -5,8 +5,8 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <functional>
 #include <random>
 #include <unordered_map>
@@ -230,7 +230,8 @@ Subsample subsample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, const Subs
   p.validate();
   if (p.mode == SubsampleMode::random)
     return randomSample(points, p.points, seed);
-  return p.leaf ? voxelSample(points, *p.leaf, p.origin) : voxelSampleTo(points, p.points, p.origin);
+  return p.leaf ? voxelSample(points, *p.leaf, p.origin)
+                : voxelSampleTo(points, p.points, p.origin);
 }
 
 }  // namespace slipfit

@@ -34,10 +34,10 @@ TEST(TileGrid, EveryPointHasOneOwnerAmongTheTilesThatCoverIt) {
     // Exactly the tiles within the buffer of the point's position.
     for (std::int64_t i = own.i - 1; i <= own.i + 1; ++i)
       for (std::int64_t j = own.j - 1; j <= own.j + 1; ++j) {
-        const double dx = std::max({static_cast<double>(i) * 10.0 - x, 0.0,
-                                    x - static_cast<double>(i + 1) * 10.0});
-        const double dy = std::max({static_cast<double>(j) * 10.0 - y, 0.0,
-                                    y - static_cast<double>(j + 1) * 10.0});
+        const double dx = std::max(
+            {static_cast<double>(i) * 10.0 - x, 0.0, x - static_cast<double>(i + 1) * 10.0});
+        const double dy = std::max(
+            {static_cast<double>(j) * 10.0 - y, 0.0, y - static_cast<double>(j + 1) * 10.0});
         const bool inside = std::max(dx, dy) < 1.5 - 1e-9;
         const bool outside = std::max(dx, dy) > 1.5 + 1e-9;
         const bool listed =
@@ -109,9 +109,15 @@ Eigen::Matrix3Xd plantedCloud(int n) {
   for (int k = 0; k < n; ++k) {
     const double a = 40.0 * u(rng) - 7.0, b = 30.0 * u(rng) - 3.0;
     switch (k % 3) {
-      case 0: p.col(k) << a, b, 0.0; break;
-      case 1: p.col(k) << a, 12.5, 0.1 * b; break;
-      default: p.col(k) << a, b, 0.2 * a + 1.0; break;
+      case 0:
+        p.col(k) << a, b, 0.0;
+        break;
+      case 1:
+        p.col(k) << a, 12.5, 0.1 * b;
+        break;
+      default:
+        p.col(k) << a, b, 0.2 * a + 1.0;
+        break;
     }
   }
   return p;
@@ -126,8 +132,7 @@ TEST(TiledVoxelCounts, TilesCountingTheVoxelsOfTheirCoresAddUpToTheWholeCloud) {
   // Each tile holds its core and buffer, as the tiler writes it.
   std::map<TileKey, std::vector<Eigen::Index>> members;
   for (Eigen::Index k = 0; k < exact.cols(); ++k)
-    grid.forEachCovering(exact(0, k), exact(1, k),
-                         [&](TileKey t) { members[t].push_back(k); });
+    grid.forEachCovering(exact(0, k), exact(1, k), [&](TileKey t) { members[t].push_back(k); });
   const auto tileSum = [&](double leaf) {
     std::size_t n = 0;
     for (const auto& [key, rows] : members) {
@@ -163,8 +168,8 @@ TEST(TiledVoxelCounts, TilesCountingTheVoxelsOfTheirCoresAddUpToTheWholeCloud) {
       continue;  // a buffer point's voxel may reach beyond the tile
     ++core;
     const std::int32_t rep = tile.representative[r];
-    const std::int32_t untiled_rep = untiled.kept[static_cast<std::size_t>(
-        untiled.representative[static_cast<std::size_t>(u)])];
+    const std::int32_t untiled_rep =
+        untiled.kept[static_cast<std::size_t>(untiled.representative[static_cast<std::size_t>(u)])];
     // Same voxel: both representatives are the first of its points, in the same order.
     EXPECT_EQ(rows[static_cast<std::size_t>(tile.kept[static_cast<std::size_t>(rep)])],
               untiled_rep);

@@ -64,10 +64,10 @@ class CloudStream {
   std::ifstream in_;
   Encoding encoding_ = Encoding::ascii;
   std::uint64_t points_ = 0;
-  std::uint64_t data_offset_ = 0;         ///< byte where the points' rows start
-  std::uint64_t record_bytes_ = 0;        ///< binary: bytes per row
-  std::uint64_t offset_[3] = {0, 0, 0};   ///< binary: byte of x, y, z in a row
-  int column_[3] = {-1, -1, -1};          ///< token (= field) of x, y, z in a row
+  std::uint64_t data_offset_ = 0;        ///< byte where the points' rows start
+  std::uint64_t record_bytes_ = 0;       ///< binary: bytes per row
+  std::uint64_t offset_[3] = {0, 0, 0};  ///< binary: byte of x, y, z in a row
+  int column_[3] = {-1, -1, -1};         ///< token (= field) of x, y, z in a row
   std::vector<StreamField> fields_;
   int coordinate_bytes_ = 4;              ///< 4 (float) or 8 (double), the same for x, y and z
   int columns_ = 0;                       ///< ascii: tokens per row
