@@ -11,8 +11,11 @@
 #include "tiling/tiler.h"
 #include "tiling/work_distribution.h"
 
+#include <yaml-cpp/yaml.h>
+
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -146,6 +149,26 @@ AnalysisBudgets analysisBudgets(const PipelineConfig& config, const TilingManife
     budgets.every_tile.push_back(o.str());
   }
   return budgets;
+}
+
+/// The segmentation stage's picture, as configured (its options declared anew: each option's
+/// "default" is its configured value); nullopt when it writes none.
+std::optional<RenderRequest> renderRequest(const ConfiguredStage& segmentation) {
+  OptionSet configured;
+  segmentation.stage->declare(configured);
+  const Option* name = configured.find("render");
+  if (!name || name->defaultText().empty())
+    return std::nullopt;
+  RenderRequest request;
+  request.name = name->defaultText();
+  OptionSet camera;
+  camera.bind(request.camera);
+  for (const auto& option : camera.all()) {
+    const Option* given = configured.find(option->name());
+    if (given && given->defaultText() != "unset")
+      option->parse(YAML::Load(given->defaultText()));
+  }
+  return request;
 }
 
 /// The work directory, checked to be empty or a tiling's own (its manifest.yaml).
@@ -329,7 +352,9 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       progress.begin(3, 3, "merge " + std::to_string(manifest.tiles.size()) + " tiles");
       OutputFiles outputs(config.output.dir);
       outputs.protect(config.input.path);
-      const MergeSummary s = mergeTiles(manifest, runs_dir, segments_name, report_name, outputs);
+      const std::optional<RenderRequest> render = renderRequest(segmentation);
+      const MergeSummary s = mergeTiles(manifest, runs_dir, segments_name, report_name,
+                                        render ? &*render : nullptr, outputs);
       written = outputs.commit();
       progress.end();
       report << "segmentation: " << s.segments << " segments from " << s.pieces

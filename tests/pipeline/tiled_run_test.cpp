@@ -171,6 +171,18 @@ TEST(TiledRun, ARerunResumesAfterTheFinishedTilesWithTheSameOutputs) {
   ASSERT_GE(tiles, 9);
   const std::string segments = slurp(run.out + "/segments.ply");
   const std::string report = slurp(run.out + "/primitives.yaml");
+  // The picture, rendered from the merged segments: a PNG of the configured size.
+  const std::string picture = slurp(run.out + "/segments.png");
+  ASSERT_GT(picture.size(), 24u);
+  EXPECT_EQ(picture.substr(1, 3), "PNG");
+  const auto be32 = [&](std::size_t at) {
+    return (static_cast<unsigned char>(picture[at]) << 24) |
+           (static_cast<unsigned char>(picture[at + 1]) << 16) |
+           (static_cast<unsigned char>(picture[at + 2]) << 8) |
+           static_cast<unsigned char>(picture[at + 3]);
+  };
+  EXPECT_EQ(be32(16), 1024u);  // IHDR width and height: the demo's image_width / image_height
+  EXPECT_EQ(be32(20), 768u);
   // Two tiles' runs lost (as when a run stops): the rerun runs those two, reuses the rest.
   std::vector<fs::path> runs;
   for (const auto& e : fs::directory_iterator(run.out + "/tiles/runs"))
@@ -186,6 +198,7 @@ TEST(TiledRun, ARerunResumesAfterTheFinishedTilesWithTheSameOutputs) {
               HasSubstr("tiling: 2 tiles run, " + std::to_string(tiles - 2) + " already done"));
   EXPECT_EQ(slurp(run.out + "/segments.ply"), segments);
   EXPECT_EQ(slurp(run.out + "/primitives.yaml"), report);
+  EXPECT_EQ(slurp(run.out + "/segments.png"), picture);
   // Another config: no tile run is reused (the tiles are).
   r = runSlipfit(run.args + " --set segments.max_angle=25");
   ASSERT_EQ(r.code, 0) << r.err;

@@ -11,6 +11,8 @@
 #include "slipfit/render/segment_palette.h"
 #include "slipfit/tiling/segment_joining.h"
 
+#include <pcl/io/png_io.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -59,7 +61,7 @@ void refit(Joined& j, const Eigen::Vector3d& origin) {
 
 MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
                         const std::string& segments_name, const std::string& report_name,
-                        OutputFiles& outputs) {
+                        const RenderRequest* render, OutputFiles& outputs) {
   const std::size_t tiles = m.tiles.size();
   const auto dirOf = [&](std::size_t t) { return runs_dir + "/" + m.tiles[t].name(); };
   std::map<TileKey, std::size_t> index;
@@ -175,6 +177,10 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
     const TileLabels l = readTileLabels(dirOf(t));
     total += static_cast<std::uint64_t>(std::count(l.core.begin(), l.core.end(), 1));
   }
+  // The picture's points: every k-th point written, relative to the origin (float keeps them).
+  const std::uint64_t every = std::max<std::uint64_t>(1, (total + kRenderedPoints - 1) / kRenderedPoints);
+  std::vector<float> picture_points, picture_normals;
+  std::vector<std::uint8_t> picture_colours;
   outputs.add(segments_name, [&](const std::string& path) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     std::vector<StreamField> fields;
@@ -202,6 +208,11 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
       const FieldAt xyz[3] = {fieldAt(*findField(fields, "x")), fieldAt(*findField(fields, "y")),
                               fieldAt(*findField(fields, "z"))};
       const RowCopy copy(in.fields(), fields);
+      const StreamField* n_f[3] = {findField(fields, "normal_x"), findField(fields, "normal_y"),
+                                   findField(fields, "normal_z")};
+      if (!n_f[0])  // as written to the file
+        for (int a = 0; a < 3; ++a)
+          n_f[a] = findField(fields, std::string("n") + "xyz"[a]);
       const std::uint64_t bytes = fields.back().offset + fields.back().bytes;
       constexpr std::uint64_t kChunk = 1u << 16;
       for (std::uint64_t r0 = 0; r0 < in.size(); r0 += kChunk) {
@@ -221,6 +232,13 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
           const Rgb c = g < 0 ? kUnassignedColour : segmentColour(static_cast<std::size_t>(g));
           for (int a = 0; a < 3; ++a)
             colour[a].set(o, c[static_cast<std::size_t>(a)]);
+          if (render && summary.points % every == 0) {
+            for (int a = 0; a < 3; ++a) {
+              picture_points.push_back(static_cast<float>(xyz[a].get(o) - origin[a]));
+              picture_normals.push_back(n_f[a] ? static_cast<float>(fieldAt(*n_f[a]).get(o)) : 0.0f);
+              picture_colours.push_back(c[static_cast<std::size_t>(a)]);
+            }
+          }
           ++summary.points;
           if (g < 0) {
             type.set(o, -1);
@@ -245,6 +263,21 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
       throw RunError("'" + path + "': " + std::to_string(summary.points) + " points written of " +
                      std::to_string(total));
   });
+
+  if (render) {
+    const auto n = static_cast<Eigen::Index>(picture_points.size() / 3);
+    const Eigen::Map<const Eigen::Matrix3Xf> x(picture_points.data(), 3, n);
+    const Eigen::Map<const Eigen::Matrix3Xf> normals(picture_normals.data(), 3, n);
+    const Eigen::Map<const Eigen::Matrix<std::uint8_t, 3, Eigen::Dynamic>> rgb(
+        picture_colours.data(), 3, n);
+    RenderParameters camera = render->camera;
+    if (camera.eye)
+      *camera.eye -= origin;  // the config's eye is in the input's frame
+    const std::vector<std::uint8_t> image = renderSplats(x, rgb, normals, camera);
+    outputs.add(render->name, [&](const std::string& path) {
+      pcl::io::saveRgbPNGFile(path, image.data(), camera.width, camera.height);
+    });
+  }
 
   std::vector<PrimitiveRecord> records;
   for (std::size_t k = 0; k < joined.size(); ++k) {

@@ -7,6 +7,7 @@
 #include "tiler.h"
 
 #include "slipfit/pipeline/output_files.h"
+#include "slipfit/render/splat_renderer.h"
 
 #include <cstdint>
 #include <string>
@@ -21,10 +22,18 @@ struct MergeSummary {
   std::uint64_t assigned = 0;  ///< of those, in a segment
 };
 
+/// The picture of the merged segments: at most kRenderedPoints of them (every k-th written).
+struct RenderRequest {
+  std::string name;  ///< file name of the PNG
+  RenderParameters camera;
+};
+constexpr std::uint64_t kRenderedPoints = 2000000;
+
 /// Merges the finished runs of \a manifest's tiles in \a runs_dir (one directory per tile) into
-/// \a segments_name and \a report_name, added to \a outputs (committed by the caller).
+/// \a segments_name and \a report_name, and the picture when \a render is given, added to
+/// \a outputs (committed by the caller).
 MergeSummary mergeTiles(const TilingManifest& manifest, const std::string& runs_dir,
                         const std::string& segments_name, const std::string& report_name,
-                        OutputFiles& outputs);
+                        const RenderRequest* render, OutputFiles& outputs);
 
 }  // namespace slipfit::pipeline::tiling
