@@ -15,11 +15,11 @@
 
 #include <algorithm>
 #include <chrono>
-#include <optional>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <optional>
 #include <ostream>
 #include <sstream>
 
@@ -151,6 +151,24 @@ AnalysisBudgets analysisBudgets(const PipelineConfig& config, const TilingManife
   return budgets;
 }
 
+/// What the tile runs compute from: every stage's options as configured (declared anew: each
+/// option's "default" is its configured value), the NaN policy and the seed — not the file names
+/// or the thread count, which do not change the results, nor how the values were given.
+std::string effectiveConfig(const PipelineConfig& config) {
+  std::ostringstream text;
+  text << "input.nan: " << static_cast<int>(config.input.nan) << "\nseed: " << config.settings.seed
+       << "\n";
+  for (const ConfiguredStage& s : config.stages) {
+    OptionSet options;
+    s.stage->declare(options);
+    text << s.type << " " << s.tag << ":";
+    for (const auto& o : options.all())
+      text << " " << o->name() << "=" << o->defaultText();
+    text << "\n";
+  }
+  return text.str();
+}
+
 /// The segmentation stage's picture, as configured (its options declared anew: each option's
 /// "default" is its configured value); nullopt when it writes none.
 std::optional<RenderRequest> renderRequest(const ConfiguredStage& segmentation) {
@@ -254,9 +272,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   failure.clear();
   if (work.leader()) {
     try {
-      std::string fingerprint = readText(config.path);
-      for (const auto& o : overrides)
-        fingerprint += "\n--set " + o;
+      std::string fingerprint = effectiveConfig(config);
       // The leaf search reads every tile a few times: its result is kept for reruns of this
       // config on these tiles (the file goes with the tiles when they are written anew).
       const std::string cache = dir + "/analysis", key = fingerprint + "\n--\n";

@@ -150,6 +150,44 @@ TEST(TiledRun, MatchesTheUntiledRunOnAGeneratedScene) {
   }
   EXPECT_GE(crossing, 5);
   std::cout << crossing << " true shapes cross tile borders\n";
+
+  // Each true shape's segment (the one holding most of it) has the untiled segment's type and a
+  // fit as close to its points: RMS distance within 2 % of the untiled fit's.
+  const auto majority = [](const Fields& f) {
+    std::map<int, std::map<int, int>> held;
+    for (std::size_t i = 0; i < f.ints.at("truth_label").size(); ++i)
+      if (f.ints.at("truth_label")[i] >= 0 && f.ints.at("label")[i] >= 0)
+        ++held[f.ints.at("truth_label")[i]][f.ints.at("label")[i]];
+    std::map<int, int> out;
+    for (const auto& [t, labels] : held)
+      out[t] = std::max_element(labels.begin(), labels.end(), [](const auto& x, const auto& y) {
+                 return x.second < y.second;
+               })->first;
+    return out;
+  };
+  const auto records = [](const std::string& dir) {
+    std::map<int, YAML::Node> out;
+    for (const auto& p : YAML::LoadFile(dir + "/primitives.yaml")["primitives"])
+      out.emplace(p["label"].as<int>(), static_cast<const YAML::Node&>(p));
+    return out;
+  };
+  const std::map<int, int> seg_a = majority(a), seg_b = majority(b);
+  auto rec_a = records(untiled), rec_b = records(tiled);
+  int compared = 0;
+  double worst = 1.0;
+  for (const auto& [t, k] : seg_a) {
+    if (!seg_b.count(t))
+      continue;
+    const YAML::Node& x = rec_a[k];
+    const YAML::Node& y = rec_b[seg_b.at(t)];
+    EXPECT_EQ(x["type"].as<std::string>(), y["type"].as<std::string>()) << "true shape " << t;
+    const double ratio = y["rms_distance"].as<double>() / x["rms_distance"].as<double>();
+    worst = std::max(worst, std::max(ratio, 1.0 / ratio));
+    EXPECT_NEAR(ratio, 1.0, 0.02) << "true shape " << t;
+    ++compared;
+  }
+  EXPECT_EQ(compared, static_cast<int>(seg_a.size()));
+  std::cout << compared << " segments compared, RMS ratio at worst " << worst << "\n";
 }
 
 /// A small scene in 9+ tiles, run once; returns the output directory.
@@ -199,6 +237,10 @@ TEST(TiledRun, ARerunResumesAfterTheFinishedTilesWithTheSameOutputs) {
   EXPECT_EQ(slurp(run.out + "/segments.ply"), segments);
   EXPECT_EQ(slurp(run.out + "/primitives.yaml"), report);
   EXPECT_EQ(slurp(run.out + "/segments.png"), picture);
+  // The same config said otherwise (a thread count, a value given again as it is): all reused.
+  r = runSlipfit(run.args + " --set threads=1 --set segments.max_angle=30");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("tiling: 0 tiles run, " + std::to_string(tiles) + " already done"));
   // Another config: no tile run is reused (the tiles are).
   r = runSlipfit(run.args + " --set segments.max_angle=25");
   ASSERT_EQ(r.code, 0) << r.err;

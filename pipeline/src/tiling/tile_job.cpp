@@ -60,23 +60,28 @@ void summariseTile(const std::string& run_dir, const std::string& segments_ply,
   const FieldAt nxyz[3] = {needField(fields, "nx", ply), needField(fields, "ny", ply),
                            needField(fields, "nz", ply)};
 
-  TileLabels l;
   const auto n = static_cast<std::size_t>(in.size());
-  l.rows.resize(n);
-  l.labels.resize(n);
-  l.core.resize(n);
+  std::vector<std::int32_t> label(n);
+  std::vector<std::uint8_t> owned(n);
   std::vector<char> rows;
   in.readRecords(0, in.size(), rows);
   std::map<std::int32_t, TileSegment> segments;
+  TileLabels shared;
   for (std::size_t k = 0; k < n; ++k) {
     const char* row = rows.data() + k * in.recordBytes();
-    l.rows[k] = static_cast<std::uint64_t>(row_f.get(row));
-    l.labels[k] = static_cast<std::int32_t>(label_f.get(row));
-    l.core[k] = core_f.get(row) != 0.0 ? 1 : 0;
-    if (l.labels[k] >= 0) {
-      TileSegment& s = segments[l.labels[k]];
+    const double core = core_f.get(row);
+    label[k] = static_cast<std::int32_t>(label_f.get(row));
+    owned[k] = core != 0.0 ? 1 : 0;
+    shared.owned += owned[k];
+    if (core != 1.0) {  // held by a neighbour as well
+      shared.rows.push_back(static_cast<std::uint64_t>(row_f.get(row)));
+      shared.labels.push_back(label[k]);
+      shared.core.push_back(owned[k]);
+    }
+    if (label[k] >= 0) {
+      TileSegment& s = segments[label[k]];
       s.type = static_cast<int>(type_f.get(row));
-      s.core_points += l.core[k];
+      s.core_points += owned[k];
     }
   }
   // Per label: inlier distance and seed type from the tile's report.
@@ -96,11 +101,11 @@ void summariseTile(const std::string& run_dir, const std::string& segments_ply,
 
   const std::string labels_path = run_dir + "/labels.bin";
   std::ofstream lo(labels_path, std::ios::binary | std::ios::trunc);
-  const std::uint64_t count = n;
-  writeOrFail(lo, reinterpret_cast<const char*>(&count), 8, labels_path);
-  writeArray(lo, l.rows, labels_path);
-  writeArray(lo, l.labels, labels_path);
-  writeArray(lo, l.core, labels_path);
+  const std::uint64_t header[2] = {shared.rows.size(), shared.owned};
+  writeOrFail(lo, reinterpret_cast<const char*>(header), sizeof header, labels_path);
+  writeArray(lo, shared.rows, labels_path);
+  writeArray(lo, shared.labels, labels_path);
+  writeArray(lo, shared.core, labels_path);
   lo.close();
   if (!lo)
     throw RunError("'" + labels_path + "': write failed (disk full?)");
@@ -123,20 +128,20 @@ void summariseTile(const std::string& run_dir, const std::string& segments_ply,
   std::vector<std::int32_t> sample_labels;
   std::vector<double> sample_values, sample_weights;
   for (std::size_t k = 0; k < n; ++k) {
-    if (!l.core[k] || l.labels[k] < 0)
+    if (!owned[k] || label[k] < 0)
       continue;
-    const std::uint64_t total = segments[l.labels[k]].core_points;
+    const std::uint64_t total = segments[label[k]].core_points;
     const std::uint64_t stride = (total + kSamplesPerSegment - 1) / kSamplesPerSegment;
-    if (seen[l.labels[k]]++ % stride != 0)
+    if (seen[label[k]]++ % stride != 0)
       continue;
     const char* row = rows.data() + k * in.recordBytes();
-    sample_labels.push_back(l.labels[k]);
+    sample_labels.push_back(label[k]);
     for (const FieldAt& f : xyz)
       sample_values.push_back(f.get(row));
     for (const FieldAt& f : nxyz)
       sample_values.push_back(f.get(row));
     // This sample stands for the core points up to the next one.
-    const std::uint64_t taken_before = (seen[l.labels[k]] - 1) / stride;
+    const std::uint64_t taken_before = (seen[label[k]] - 1) / stride;
     const std::uint64_t covers = std::min(stride, total - taken_before * stride);
     sample_weights.push_back(static_cast<double>(covers));
   }
@@ -163,6 +168,7 @@ TileLabels readTileLabels(const std::string& run_dir) {
   std::ifstream in(path, std::ios::binary);
   const std::uint64_t n = readCount(in, path);
   TileLabels l;
+  l.owned = readCount(in, path);
   readArray(in, l.rows, n, path);
   readArray(in, l.labels, n, path);
   readArray(in, l.core, n, path);

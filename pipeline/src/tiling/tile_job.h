@@ -1,7 +1,8 @@
 #pragma once
 /// \file One tile of a tiled run: the unchanged pipeline on the tile's file, then what the merge
 /// needs from its segments, written next to its outputs:
-/// - labels.bin: every point's input row, segment label and whether the tile owns it;
+/// - labels.bin: the number of points the tile owns, and for every point it shares with a
+///   neighbour (tile_core 0 or 2) its input row, segment label and whether the tile owns it;
 /// - segments.yaml: per label its primitive type, core points, inlier distance, seed type;
 /// - samples.bin: per label up to kSamplesPerSegment of its core points (every k-th, in row
 ///   order) with normals, for the refit of the joined segments;
@@ -19,8 +20,9 @@ namespace slipfit::pipeline::tiling {
 
 constexpr std::uint64_t kSamplesPerSegment = 4000;
 
-/// What labels.bin holds.
+/// What labels.bin holds: the points the tile shares with its neighbours.
 struct TileLabels {
+  std::uint64_t owned = 0;           ///< points the tile owns, shared or not
   std::vector<std::uint64_t> rows;   ///< ascending
   std::vector<std::int32_t> labels;  ///< −1: unassigned
   std::vector<std::uint8_t> core;    ///< 1: the tile owns the point

@@ -85,8 +85,10 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
       types.push_back(s.type);
     return types;
   };
+  std::vector<std::uint64_t> owned(tiles);
   for (std::size_t t = 0; t < tiles; ++t) {
     const TileLabels here = readTileLabels(dirOf(t));
+    owned[t] = here.owned;
     for (const auto& [di, dj] : {std::pair{0, 1}, {1, -1}, {1, 0}, {1, 1}}) {
       const auto other = index.find({m.tiles[t].key.i + di, m.tiles[t].key.j + dj});
       if (other == index.end())
@@ -173,12 +175,11 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
 
   // segments.ply: each tile's own points, with the whole cloud's labels and colours.
   std::uint64_t total = 0;
-  for (std::size_t t = 0; t < tiles; ++t) {
-    const TileLabels l = readTileLabels(dirOf(t));
-    total += static_cast<std::uint64_t>(std::count(l.core.begin(), l.core.end(), 1));
-  }
+  for (std::size_t t = 0; t < tiles; ++t)
+    total += owned[t];
   // The picture's points: every k-th point written, relative to the origin (float keeps them).
-  const std::uint64_t every = std::max<std::uint64_t>(1, (total + kRenderedPoints - 1) / kRenderedPoints);
+  const std::uint64_t every =
+      std::max<std::uint64_t>(1, (total + kRenderedPoints - 1) / kRenderedPoints);
   std::vector<float> picture_points, picture_normals;
   std::vector<std::uint8_t> picture_colours;
   outputs.add(segments_name, [&](const std::string& path) {
@@ -235,7 +236,8 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
           if (render && summary.points % every == 0) {
             for (int a = 0; a < 3; ++a) {
               picture_points.push_back(static_cast<float>(xyz[a].get(o) - origin[a]));
-              picture_normals.push_back(n_f[a] ? static_cast<float>(fieldAt(*n_f[a]).get(o)) : 0.0f);
+              picture_normals.push_back(n_f[a] ? static_cast<float>(fieldAt(*n_f[a]).get(o))
+                                               : 0.0f);
               picture_colours.push_back(c[static_cast<std::size_t>(a)]);
             }
           }

@@ -187,11 +187,14 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
         const double row_index = static_cast<double>(index);
         std::memcpy(row_out.data() + kept_bytes, &row_index, 8);
         const TileKey own = grid.owner(x, y);
+        int holders = 0;
+        place(x, y, [&](TileKey t) { holders += writers.count(t) ? 1 : 0; });
         place(x, y, [&](TileKey t) {
           const auto w = writers.find(t);
           if (w == writers.end())
             return;
-          row_out[kept_bytes + 8] = t == own ? 1 : 0;
+          // 0: held for a neighbour; 1: owned; 2: owned and held by a neighbour too.
+          row_out[kept_bytes + 8] = static_cast<char>(t != own ? 0 : holders > 1 ? 2 : 1);
           w->second.pending.insert(w->second.pending.end(), row_out.begin(), row_out.end());
           buffered += row_out.size();
         });

@@ -3,7 +3,8 @@
 /// (CloudStream), one to count each tile's points, one to write them; memory is bounded by the
 /// write buffers, whatever the size of the cloud. Each tile is a binary PLY of the input's
 /// fields plus `tile_row` (the point's row in the input, exact as a double up to 2^53) and
-/// `tile_core` (1 in the tile that owns the point).
+/// `tile_core`: 0 where a neighbour owns the point, 1 where this tile owns it alone, 2 where it
+/// owns it and a neighbour holds it too (the shared points that the merge compares).
 
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/tiling/tile_grid.h"
