@@ -6,6 +6,7 @@
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/progress.h"
 
+#include "interrupt_cleanup.h"
 #include "tiling/tile_job.h"
 #include "tiling/tile_merge.h"
 #include "tiling/tiler.h"
@@ -342,6 +343,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       quiet.quiet = true;
       try {
         runPipeline(tile_config, quiet, null_stream);
+        detail::noteOutputsPending();  // a tile's outputs are not the run's
         summariseTile(run_dir, segments_name, report_name);
       } catch (const RunError& e) {
         throw RunError("tile " + tile.name() + ": " + e.what());

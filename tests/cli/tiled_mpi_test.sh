@@ -10,8 +10,9 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$slipfit" run configs/sample_scene.yaml --quiet --set scene.layout=random --set scene.shapes=30 \
   --set scene.points=200000 --set scene.noise=0.002 --set seed=17 --set output.dir="$work/scene"
-run=(run configs/demo.yaml --quiet --set input.path="$work/scene/cloud.ply" --set tiling.size=8
-     --set threads=1)
+loud=(run configs/demo.yaml --set input.path="$work/scene/cloud.ply" --set tiling.size=8
+      --set threads=1)
+run=("${loud[@]}" --quiet)
 "$slipfit" "${run[@]}" --set output.dir="$work/sequential"
 tiles=$(grep -c '^  - \[' "$work/sequential/tiles/manifest.yaml")
 [ "$tiles" -ge 9 ] || { echo "FAIL: only $tiles tiles"; exit 1; }
@@ -29,4 +30,34 @@ for ranks in 2 3; do
   done_count=$(find "$work/ranks$ranks/tiles/runs" -name done | wc -l)
   [ "$done_count" = "$tiles" ] || { echo "FAIL: $done_count of $tiles tiles done"; exit 1; }
 done
-echo "PASS: $tiles tiles; 2 and 3 ranks wrote the sequential run's bytes"
+# A rank that dies (kill -9 once two tiles are done): mpirun ends the job with a non-zero exit,
+# rank 0 says no output was written and none is; a rerun in one process resumes from the
+# finished tiles and writes the sequential run's bytes.
+killed=$work/killed
+"$mpiexec" "${as_root[@]}" --oversubscribe -np 2 "$slipfit" "${run[@]}" \
+  --set output.dir="$killed" >"$work/killed.out" 2>"$work/killed.err" &
+launcher=$!
+for _ in $(seq 1 600); do
+  [ "$(find "$killed/tiles/runs" -name done 2>/dev/null | wc -l)" -ge 2 ] && break
+  sleep 0.1
+done
+victim=""
+for pid in $(pgrep -f -- "--set output.dir=$killed\$"); do  # rank 1, by its environment
+  tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1" && victim=$pid
+done
+[ -n "$victim" ] || { echo "FAIL: no rank 1 to kill"; exit 1; }
+kill -9 "$victim"
+if wait "$launcher"; then echo "FAIL: mpirun succeeded after a rank was killed"; exit 1; fi
+grep -q "no output was written" "$work/killed.err" ||
+  { echo "FAIL: rank 0 did not say that no output was written"; cat "$work/killed.err"; exit 1; }
+for f in segments.ply primitives.yaml segments.png; do
+  [ ! -e "$killed/$f" ] || { echo "FAIL: $f written by the killed run"; exit 1; }
+done
+"$slipfit" "${loud[@]}" --set output.dir="$killed" >"$work/resumed.out"
+done_before=$(sed -n 's/^tiling: [0-9]* tiles run, \([0-9]*\) already done.*/\1/p' "$work/resumed.out")
+[ "${done_before:-0}" -ge 2 ] || { echo "FAIL: the rerun did not resume"; cat "$work/resumed.out"; exit 1; }
+for f in segments.ply primitives.yaml; do
+  cmp "$work/sequential/$f" "$killed/$f" || { echo "FAIL: resumed $f differs"; exit 1; }
+done
+echo "PASS: $tiles tiles; 2 and 3 ranks wrote the sequential run's bytes; a killed rank left no" \
+  "output and the rerun resumed after $done_before tiles"
