@@ -1,8 +1,9 @@
 #pragma once
-/// \file The coordinates of a PLY or PCD file read by row ranges, without loading the file: binary
-/// files (PLY little or big endian, PCD binary) by one seek per range, ascii files by reading on
-/// (their ranges must come in increasing order). The first piece of out-of-core input (issue 17);
-/// the header is parsed here because PCL 1.13's PLYReader::readHeader reads the whole file.
+/// \file The rows of a PLY or PCD file read by ranges, without loading the file: binary files (PLY
+/// little or big endian, PCD binary) by one seek per range, ascii files by reading on (their
+/// ranges must come in increasing order). The tiler of a tiled run streams its input through it
+/// (docs/TILING.md); the header is parsed here because PCL 1.13's PLYReader::readHeader reads the
+/// whole file.
 
 #include <Eigen/Core>
 
