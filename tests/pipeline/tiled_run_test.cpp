@@ -85,10 +85,9 @@ int tilesIn(const std::string& workdir) {
 }
 
 // The claim of docs/TILING.md: on the 1 M-point random scenes, tiles of 15 units (about 20
-// tiles, buffer 1.5) give the untiled run's mean IoU within 0.025 (measured on ten seeds: the
-// largest difference 0.021, seed 13; the segmentation itself moves by 0.008 when its leaf moves by
-// 0.4 %), each point once, and every true shape that crosses a tile border in one segment:
-// its largest segment holds at least 90 % of it.
+// tiles, buffer 1.5) give the untiled run's mean IoU within 0.0067 (the largest difference over
+// ten seeds, seed 35), each point once, and every true shape that crosses a tile border in one
+// segment: no second segment, nor the unassigned points, holds 5 % of it.
 TEST(TiledRun, MatchesTheUntiledRunOnAGeneratedScene) {
 #ifdef SLIPFIT_TESTS_SANITIZED
   const int points = 200000, shapes = 30;  // the same checks, on a scene the sanitizers can run
@@ -132,7 +131,7 @@ TEST(TiledRun, MatchesTheUntiledRunOnAGeneratedScene) {
 
   const double iou_a = meanIou(a), iou_b = meanIou(b);
   std::cout << "mean IoU untiled " << iou_a << ", tiled " << iou_b << "\n";
-  EXPECT_NEAR(iou_b, iou_a, 0.01);
+  EXPECT_NEAR(iou_b, iou_a, 0.0067);  // the largest difference over ten seeds (docs/TILING.md)
 
   // Shapes across tile borders (at least 1 % of their points on each side) are one segment.
   const double size = shapes == 75 ? 15.0 : 8.0;
@@ -156,11 +155,18 @@ TEST(TiledRun, MatchesTheUntiledRunOnAGeneratedScene) {
     if (parts < 2)
       continue;
     ++crossing;
-    int largest = 0;
+    // One segment: no other segment, nor the unassigned, holds 5 % of it.
+    int largest = 0, largest_label = -1, second = 0;
     for (const auto& [label, k] : labels[t])
-      if (label >= 0)
-        largest = std::max(largest, k);
-    EXPECT_GE(largest, 0.9 * n) << "true shape " << t << " across " << parts << " tiles";
+      if (label >= 0 && k > largest) {
+        largest = k;
+        largest_label = label;
+      }
+    for (const auto& [label, k] : labels[t])
+      if (label != largest_label)
+        second = std::max(second, k);
+    EXPECT_GT(largest, 0) << "true shape " << t;
+    EXPECT_LT(second, 0.05 * n) << "true shape " << t << " across " << parts << " tiles";
   }
   EXPECT_GE(crossing, 5);
   std::cout << crossing << " true shapes cross tile borders\n";
