@@ -106,10 +106,6 @@ void noteOutputsCommitted() {
   g_committed.store(true, std::memory_order_release);
 }
 
-void noteOutputsPending() {
-  g_committed.store(false, std::memory_order_release);
-}
-
 void releaseTemporary(int slot) {
   if (slot >= 0 && slot < kSlots)
     g_state[slot].store(kFree, std::memory_order_release);

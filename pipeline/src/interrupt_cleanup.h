@@ -23,8 +23,5 @@ int createTemporary(const std::string& prefix, const std::string& suffix, std::s
 
 /// After the renames of a commit: a later signal no longer says that nothing was written.
 void noteOutputsCommitted();
-/// The commits so far were a tiled run's internal ones (a tile's outputs in the work directory):
-/// a later signal says again that no output was written.
-void noteOutputsPending();
 
 }  // namespace slipfit::pipeline::detail

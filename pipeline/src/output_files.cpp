@@ -188,7 +188,8 @@ std::vector<std::string> OutputFiles::commit() {
                detail::errnoText(errno) + ")");
     steps[i].renamed = true;
   }
-  detail::noteOutputsCommitted();
+  if (announce_commit_)
+    detail::noteOutputsCommitted();
   std::vector<std::string> written;
   for (std::size_t i = 0; i < pending_.size(); ++i) {
     if (!steps[i].backup.empty())

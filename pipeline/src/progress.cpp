@@ -22,6 +22,12 @@ void Progress::end() {
     std::fprintf(stderr, " %.2f s\n", elapsed());
 }
 
+void Progress::step(std::size_t index, std::size_t count, const std::string& label,
+                    double seconds) {
+  if (enabled_)
+    std::fprintf(stderr, "[%zu/%zu] %s ... %.2f s\n", index, count, label.c_str(), seconds);
+}
+
 double Progress::elapsed() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }

@@ -188,6 +188,7 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
 
   // Stages may add files (meshes); everything is renamed into place only at the end.
   OutputFiles outputs(config.output.dir);
+  outputs.announceCommit(options.final_outputs);
   if (!config.input.path.empty())
     outputs.protect(config.input.path);
   for (std::size_t i = 0; i < config.stages.size(); ++i) {

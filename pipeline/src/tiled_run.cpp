@@ -6,7 +6,6 @@
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/progress.h"
 
-#include "interrupt_cleanup.h"
 #include "tiling/tile_job.h"
 #include "tiling/tile_merge.h"
 #include "tiling/tiler.h"
@@ -14,12 +13,16 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <omp.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <mutex>
 #include <optional>
 #include <ostream>
 #include <sstream>
@@ -315,24 +318,33 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   }
 
   // 2. The tiles' runs: the unchanged pipeline on each tile, its report in the tile's directory.
+  // Tiles are independent: a process runs as many at a time as it has threads, each tile on one
+  // thread (more than one when fewer tiles than threads are left). Whole tiles in parallel use
+  // the cores better than one tile's stages do, and the outputs do not depend on the threads.
   const auto tiles_start = std::chrono::steady_clock::now();
+  std::size_t to_run = 0;
+  for (const TileInfo& tile : manifest.tiles)
+    to_run += tileDone(runs_dir + "/" + tile.name()) ? 0 : 1;
+  const int threads = config.settings.threads > 0 ? config.settings.threads : omp_get_num_procs();
+  const int workers =
+      static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(threads, to_run)));
   std::vector<std::string> tile_overrides = overrides;
   tile_overrides.push_back("tiling.size=0");
   tile_overrides.push_back("output.cloud=''");
   tile_overrides.push_back(segmentation.tag + ".render=''");
+  tile_overrides.push_back("threads=" + std::to_string(std::max(1, threads / workers)));
   const std::vector<std::string> names = segmentation.stage->outputFiles();  // report, segments
   const std::string report_name = names.at(0), segments_name = names.at(1);
-  std::size_t ran = 0;
+  std::atomic<std::size_t> ran{0};
+  std::mutex progress_mutex;
   failure.clear();
   try {
-    work.forEachTile(manifest.tiles.size(), [&](std::size_t t) {
+    work.forEachTile(manifest.tiles.size(), workers, [&](std::size_t t) {
       const TileInfo& tile = manifest.tiles[t];
       const std::string run_dir = runs_dir + "/" + tile.name();
       if (tileDone(run_dir))
         return;
-      progress.begin(2, 3,
-                     "tile " + std::to_string(t + 1) + "/" + std::to_string(manifest.tiles.size()) +
-                         " (" + tile.name() + ")");
+      const auto tile_start = std::chrono::steady_clock::now();
       std::vector<std::string> o = tile_overrides;
       for (const std::string& budget : budgets.forTile(tile.points, manifest.points))
         o.push_back(budget);
@@ -341,21 +353,25 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       PipelineConfig tile_config = loadConfig(config.path, o);
       RunOptions quiet;
       quiet.quiet = true;
+      quiet.final_outputs = false;  // a tile's outputs are not the run's
       try {
         runPipeline(tile_config, quiet, null_stream);
-        detail::noteOutputsPending();  // a tile's outputs are not the run's
         summariseTile(run_dir, segments_name, report_name);
       } catch (const RunError& e) {
         throw RunError("tile " + tile.name() + ": " + e.what());
       }
-      progress.end();
-      ++ran;
+      const std::size_t done = ++ran;
+      const std::lock_guard<std::mutex> lock(progress_mutex);
+      progress.step(
+          2, 3,
+          "tile " + std::to_string(done) + "/" + std::to_string(to_run) + " (" + tile.name() + ")",
+          seconds(tile_start));
     });
   } catch (const std::exception& e) {
     failure = e.what();
   }
   work.shareFailure(failure);
-  const std::size_t ran_total = work.sum(ran);
+  const std::size_t ran_total = work.sum(ran.load());
   report << "tiling: " << ran_total << " tiles run, " << manifest.tiles.size() - ran_total
          << " already done, " << std::fixed << std::setprecision(2) << seconds(tiles_start)
          << " s\n"

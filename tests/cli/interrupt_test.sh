@@ -45,4 +45,37 @@ for signal in INT TERM; do
     echo "ok ($signal): exit $code, $out empty, $(cat "$scratch/err")"
   fi
 done
+
+# A tiled run interrupted after some tiles have committed their own outputs in the work directory:
+# the run's outputs are not written, and the message says so.
+configs=$(cd "$(dirname "$0")/../../configs" && pwd)
+"$slipfit" run "$configs/sample_scene.yaml" --quiet --set scene.layout=random --set scene.shapes=20 \
+  --set scene.points=400000 --set seed=5 --set output.dir="$scratch/scene"
+out=$scratch/tiled
+"$slipfit" run "$configs/demo.yaml" --quiet --set input.path="$scratch/scene/cloud.ply" \
+  --set output.dir="$out" --set tiling.size=3 2>"$scratch/err" &
+pid=$!
+seen=""
+for _ in $(seq 1 6000); do  # up to 60 s
+  if compgen -G "$out/tiles/runs/*/done" >/dev/null; then
+    seen=yes
+    break
+  fi
+  sleep 0.01
+done
+tiles=$(ls "$out/tiles/tiles" 2>/dev/null | wc -l)
+done_tiles=$(compgen -G "$out/tiles/runs/*/done" | wc -l)
+kill -INT "$pid"
+wait "$pid"
+code=$?
+left=$(ls "$out" 2>/dev/null | grep -v '^tiles$')
+if [ -z "$seen" ] || [ "$done_tiles" -ge "$tiles" ] || [ "$code" != 130 ] || [ -n "$left" ] ||
+  [ "$(wc -l <"$scratch/err")" != 1 ] ||
+  ! grep -q '^slipfit: error: interrupted (SIGINT); no output was written$' "$scratch/err"; then
+  echo "FAIL (tiled): $done_tiles of $tiles tiles done, exit $code, left in $out: '${left}', stderr:"
+  cat "$scratch/err"
+  status=1
+else
+  echo "ok (tiled): $done_tiles of $tiles tiles done, exit $code, $(cat "$scratch/err")"
+fi
 exit $status

@@ -2,7 +2,10 @@
 
 #include "slipfit/pipeline/errors.h"
 
+#include <atomic>
 #include <cstdlib>
+#include <exception>
+#include <thread>
 #include <vector>
 
 #ifdef SLIPFIT_WITH_MPI
@@ -26,9 +29,13 @@ WorkDistribution::WorkDistribution() {
   if (!initialised) {
     if (!launchedByMpirun())
       return;
-    MPI_Init(nullptr, nullptr);
+    int provided = MPI_THREAD_SINGLE;
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
     initialised_here_ = true;
   }
+  int level = MPI_THREAD_SINGLE;
+  MPI_Query_thread(&level);
+  threads_may_share_ = level >= MPI_THREAD_SERIALIZED;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
   if (size_ == 1)
@@ -56,23 +63,17 @@ WorkDistribution::~WorkDistribution() {
     MPI_Finalize();
 }
 
-void WorkDistribution::forEachTile(std::size_t n, const std::function<void(std::size_t)>& run) {
-  if (!window_) {
-    for (std::size_t t = 0; t < n; ++t)
-      run(t);
-    return;
-  }
+std::size_t WorkDistribution::take(std::size_t n) {
+  const std::lock_guard<std::mutex> lock(take_mutex_);
+  if (!window_)
+    return next_ < n ? next_++ : n;
   auto& window = *static_cast<MPI_Win*>(window_);
-  for (;;) {
-    const long one = 1;
-    long taken = 0;
-    MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window);
-    MPI_Fetch_and_op(&one, &taken, MPI_LONG, 0, 0, MPI_SUM, window);
-    MPI_Win_unlock(0, window);
-    if (taken < 0 || static_cast<std::size_t>(taken) >= n)
-      return;
-    run(static_cast<std::size_t>(taken));
-  }
+  const long one = 1;
+  long taken = 0;
+  MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window);
+  MPI_Fetch_and_op(&one, &taken, MPI_LONG, 0, 0, MPI_SUM, window);
+  MPI_Win_unlock(0, window);
+  return taken < 0 || static_cast<std::size_t>(taken) >= n ? n : static_cast<std::size_t>(taken);
 }
 
 void WorkDistribution::shareFailure(const std::string& failure) {
@@ -107,9 +108,9 @@ std::size_t WorkDistribution::sum(std::size_t value) {
 WorkDistribution::WorkDistribution() = default;
 WorkDistribution::~WorkDistribution() = default;
 
-void WorkDistribution::forEachTile(std::size_t n, const std::function<void(std::size_t)>& run) {
-  for (std::size_t t = 0; t < n; ++t)
-    run(t);
+std::size_t WorkDistribution::take(std::size_t n) {
+  const std::lock_guard<std::mutex> lock(take_mutex_);
+  return next_ < n ? next_++ : n;
 }
 
 void WorkDistribution::shareFailure(const std::string& failure) {
@@ -122,5 +123,41 @@ std::size_t WorkDistribution::sum(std::size_t value) {
 }
 
 #endif
+
+void WorkDistribution::forEachTile(std::size_t n, int workers,
+                                   const std::function<void(std::size_t)>& run) {
+  next_ = 0;
+  std::mutex failure_mutex;
+  std::size_t failed_tile = n;
+  std::exception_ptr failure;
+  std::atomic<bool> stop{false};
+  const auto work = [&] {
+    while (!stop) {
+      const std::size_t t = take(n);
+      if (t >= n)
+        return;
+      try {
+        run(t);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(failure_mutex);
+        if (t < failed_tile) {
+          failed_tile = t;
+          failure = std::current_exception();
+        }
+        stop = true;
+      }
+    }
+  };
+  if (!threads_may_share_)
+    workers = 1;
+  std::vector<std::thread> threads;
+  for (int w = 1; w < workers && static_cast<std::size_t>(w) < n; ++w)
+    threads.emplace_back(work);
+  work();
+  for (auto& thread : threads)
+    thread.join();
+  if (failure)
+    std::rethrow_exception(failure);
+}
 
 }  // namespace slipfit::pipeline::tiling

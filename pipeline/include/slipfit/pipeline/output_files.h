@@ -30,6 +30,9 @@ class OutputFiles {
   /// the final names are kept aside until every rename has succeeded and put back if one fails.
   /// SIGINT/SIGTERM wait until it is done. Returns the final paths.
   std::vector<std::string> commit();
+  /// Whether commit() tells the interrupt handler that the run's outputs are written (default);
+  /// off for outputs that are pieces of a larger run.
+  void announceCommit(bool announce) { announce_commit_ = announce; }
 
  protected:
   /// rename(2); a test replaces it to make one rename fail.
@@ -47,6 +50,7 @@ class OutputFiles {
   std::string dir_;
   std::vector<std::string> protected_;
   std::vector<Pending> pending_;
+  bool announce_commit_ = true;
 };
 
 }  // namespace slipfit::pipeline

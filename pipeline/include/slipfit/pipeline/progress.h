@@ -16,6 +16,9 @@ class Progress {
   void begin(std::size_t index, std::size_t count, const std::string& label);
   /// Ends the current step.
   void end();
+  /// A whole line for a piece of step \a index that took \a seconds (pieces that run at the same
+  /// time are reported as each ends; the caller serialises the calls).
+  void step(std::size_t index, std::size_t count, const std::string& label, double seconds);
   /// Seconds since begin().
   double elapsed() const;
 

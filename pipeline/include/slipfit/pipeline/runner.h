@@ -11,6 +11,9 @@ namespace slipfit::pipeline {
 
 struct RunOptions {
   bool quiet = false;  ///< no report lines and no progress
+  /// The outputs are the process's answer: once they are committed, an interrupt says so. False
+  /// for the tiles of a tiled run, whose outputs are only its pieces.
+  bool final_outputs = true;
 };
 
 /// Runs \a config; returns the files written. Throws RunError (nothing is written then).
