@@ -388,7 +388,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       outputs.protect(config.input.path);
       const std::optional<RenderRequest> render = renderRequest(segmentation);
       const MergeSummary s = mergeTiles(manifest, runs_dir, segments_name, report_name,
-                                        render ? &*render : nullptr, outputs);
+                                        render ? &*render : nullptr, threads, outputs);
       written = outputs.commit();
       progress.end();
       report << "segmentation: " << s.segments << " segments from " << s.pieces

@@ -2,7 +2,11 @@
 
 #include "slipfit/pipeline/errors.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
 #include <stdexcept>
 
@@ -141,6 +145,38 @@ void FieldAt::set(char* row, double value) const {
 void writeOrFail(std::ofstream& out, const char* bytes, std::size_t size, const std::string& path) {
   if (!out.write(bytes, static_cast<std::streamsize>(size)))
     throw RunError("'" + path + "': write failed (disk full?)");
+}
+
+PositionalFile::PositionalFile(const std::string& path) : path_(path) {
+  fd_ = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd_ < 0)
+    throw RunError("'" + path + "': cannot be opened for writing (" + std::strerror(errno) + ")");
+}
+
+PositionalFile::~PositionalFile() {
+  if (fd_ >= 0)
+    ::close(fd_);
+}
+
+void PositionalFile::write(std::uint64_t offset, const char* bytes, std::size_t size) const {
+  while (size > 0) {
+    const ssize_t n = ::pwrite(fd_, bytes, size, static_cast<off_t>(offset));
+    if (n < 0 && errno == EINTR)
+      continue;
+    if (n <= 0)
+      throw RunError("'" + path_ + "': write failed (" +
+                     (n < 0 ? std::string(std::strerror(errno)) : "disk full?") + ")");
+    bytes += n;
+    size -= static_cast<std::size_t>(n);
+    offset += static_cast<std::uint64_t>(n);
+  }
+}
+
+void PositionalFile::close() {
+  const int fd = fd_;
+  fd_ = -1;
+  if (fd >= 0 && ::close(fd) != 0)
+    throw RunError("'" + path_ + "': write failed (" + std::strerror(errno) + ")");
 }
 
 }  // namespace slipfit::pipeline::tiling

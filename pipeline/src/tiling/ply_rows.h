@@ -53,4 +53,23 @@ class RowCopy {
 /// Writes \a bytes to \a out; throws RunError naming \a path when the write fails (disk full).
 void writeOrFail(std::ofstream& out, const char* bytes, std::size_t size, const std::string& path);
 
+/// An existing file written at given offsets, by several threads at once (pwrite(2)): the rows of
+/// each tile go to their own place.
+class PositionalFile {
+ public:
+  /// Opens \a path for writing; throws RunError naming it when it cannot.
+  explicit PositionalFile(const std::string& path);
+  ~PositionalFile();
+  PositionalFile(const PositionalFile&) = delete;
+  PositionalFile& operator=(const PositionalFile&) = delete;
+  /// Writes \a size bytes at \a offset; throws RunError naming the file when the write fails.
+  void write(std::uint64_t offset, const char* bytes, std::size_t size) const;
+  /// Closes the file; throws RunError when that reports an error.
+  void close();
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+};
+
 }  // namespace slipfit::pipeline::tiling

@@ -2,6 +2,7 @@
 
 #include "ply_rows.h"
 #include "tile_job.h"
+#include "worker_pool.h"
 
 #include "slipfit/fitting/primitives.h"
 #include "slipfit/fitting/weighted_fit.h"
@@ -57,11 +58,108 @@ void refit(Joined& j, const Eigen::Vector3d& origin) {
   j.samples.shrink_to_fit();
 }
 
+/// The distances of one tile's points to their joined segment's fit.
+struct Distances {
+  double sum_squares = 0.0, max_distance = 0.0;
+  std::uint64_t inliers = 0;
+};
+
+/// What writing one tile's rows of segments.ply gave.
+struct TileRows {
+  std::uint64_t points = 0, assigned = 0;
+  std::map<std::int32_t, Distances> distances;  ///< per segment of the whole cloud
+  std::vector<float> picture_points, picture_normals;
+  std::vector<std::uint8_t> picture_colours;
+};
+
+/// Writes the points a tile owns from its \a ply, as rows of \a fields at \a offset of \a file,
+/// with the labels of the whole cloud (\a global: per tile label), their colours and types; the
+/// first of them is point \a first of the file, and every \a every-th point of the file is kept
+/// for the picture when \a picture.
+TileRows writeTileRows(const std::string& ply, const std::vector<StreamField>& fields,
+                       const PositionalFile& file, std::uint64_t offset, std::uint64_t first,
+                       std::uint64_t every, bool picture, const Eigen::Vector3d& origin,
+                       const std::vector<std::int32_t>& global, const std::vector<Joined>& joined) {
+  CloudStream in(ply);
+  const std::vector<StreamField> kept = withoutFields(in.fields(), {"tile_row", "tile_core"});
+  if (kept.size() != fields.size() ||
+      kept.back().offset + kept.back().bytes != fields.back().offset + fields.back().bytes)
+    throw RunError("'" + ply + "': its fields differ from the first tile's");
+  const StreamField* core_f = findField(in.fields(), "tile_core");
+  const StreamField* label_f = findField(fields, "label");
+  const StreamField* type_f = findField(fields, "primitive");
+  const StreamField* rgb_f[3] = {findField(fields, "red"), findField(fields, "green"),
+                                 findField(fields, "blue")};
+  if (!core_f || !label_f || !type_f || !rgb_f[0] || !rgb_f[1] || !rgb_f[2])
+    throw RunError("'" + ply + "': not a segmentation output of a tile");
+  const FieldAt core = fieldAt(*core_f), label = fieldAt(*label_f), type = fieldAt(*type_f);
+  const FieldAt colour[3] = {fieldAt(*rgb_f[0]), fieldAt(*rgb_f[1]), fieldAt(*rgb_f[2])};
+  const FieldAt xyz[3] = {fieldAt(*findField(fields, "x")), fieldAt(*findField(fields, "y")),
+                          fieldAt(*findField(fields, "z"))};
+  const RowCopy copy(in.fields(), fields);
+  const StreamField* n_f[3] = {findField(fields, "normal_x"), findField(fields, "normal_y"),
+                               findField(fields, "normal_z")};
+  if (!n_f[0])  // as written to the file
+    for (int a = 0; a < 3; ++a)
+      n_f[a] = findField(fields, std::string("n") + "xyz"[a]);
+  const std::uint64_t bytes = fields.back().offset + fields.back().bytes;
+
+  TileRows w;
+  std::vector<char> rows, row_out;
+  constexpr std::uint64_t kChunk = 1u << 16;
+  for (std::uint64_t r0 = 0; r0 < in.size(); r0 += kChunk) {
+    const std::uint64_t n = std::min(kChunk, in.size() - r0);
+    in.readRecords(r0, n, rows);
+    row_out.clear();
+    const std::uint64_t chunk_first = w.points;
+    for (std::uint64_t r = 0; r < n; ++r) {
+      const char* row = rows.data() + r * in.recordBytes();
+      if (core.get(row) == 0.0)
+        continue;
+      const std::size_t at = row_out.size();
+      row_out.resize(at + bytes);
+      char* o = row_out.data() + at;
+      copy.apply(row, o);
+      const auto l = static_cast<std::int64_t>(label.get(o));
+      const std::int32_t g =
+          l < 0 || static_cast<std::uint64_t>(l) >= global.size() ? -1 : global[l];
+      label.set(o, g);
+      const Rgb c = g < 0 ? kUnassignedColour : segmentColour(static_cast<std::size_t>(g));
+      for (int a = 0; a < 3; ++a)
+        colour[a].set(o, c[static_cast<std::size_t>(a)]);
+      if (picture && (first + w.points) % every == 0) {
+        for (int a = 0; a < 3; ++a) {
+          w.picture_points.push_back(static_cast<float>(xyz[a].get(o) - origin[a]));
+          w.picture_normals.push_back(n_f[a] ? static_cast<float>(fieldAt(*n_f[a]).get(o))
+                                             : 0.0f);
+          w.picture_colours.push_back(c[static_cast<std::size_t>(a)]);
+        }
+      }
+      ++w.points;
+      if (g < 0) {
+        type.set(o, -1);
+        continue;
+      }
+      const Joined& j = joined[static_cast<std::size_t>(g)];
+      type.set(o, static_cast<double>(j.fit.type));
+      const Eigen::Vector3d p(xyz[0].get(o), xyz[1].get(o), xyz[2].get(o));
+      const double d = j.fit.ok() ? distance(p - origin, j.fit.refined) : 0.0;
+      Distances& s = w.distances[g];
+      s.sum_squares += d * d;
+      s.max_distance = std::max(s.max_distance, d);
+      s.inliers += d <= j.inlier_distance ? 1 : 0;
+      ++w.assigned;
+    }
+    file.write(offset + chunk_first * bytes, row_out.data(), row_out.size());
+  }
+  return w;
+}
+
 }  // namespace
 
 MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
                         const std::string& segments_name, const std::string& report_name,
-                        const RenderRequest* render, OutputFiles& outputs) {
+                        const RenderRequest* render, int workers, OutputFiles& outputs) {
   const std::size_t tiles = m.tiles.size();
   const auto dirOf = [&](std::size_t t) { return runs_dir + "/" + m.tiles[t].name(); };
   std::map<TileKey, std::size_t> index;
@@ -71,10 +169,9 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
   // The pieces: every tile's segments, numbered tile after tile.
   std::vector<std::vector<TileSegment>> pieces(tiles);
   std::vector<std::size_t> first(tiles + 1, 0);
-  for (std::size_t t = 0; t < tiles; ++t) {
-    pieces[t] = readTileSegments(dirOf(t));
+  forEachOnWorkers(tiles, workers, [&](std::size_t t) { pieces[t] = readTileSegments(dirOf(t)); });
+  for (std::size_t t = 0; t < tiles; ++t)
     first[t + 1] = first[t] + pieces[t].size();
-  }
   DisjointSets sets(first[tiles]);
   MergeSummary summary;
 
@@ -85,8 +182,11 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
       types.push_back(s.type);
     return types;
   };
+  // Each tile against its neighbours after it, tiles side by side; the joins are applied in
+  // tile order (the sets' representatives do not depend on it).
   std::vector<std::uint64_t> owned(tiles);
-  for (std::size_t t = 0; t < tiles; ++t) {
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> joins(tiles);
+  forEachOnWorkers(tiles, workers, [&](std::size_t t) {
     const TileLabels here = readTileLabels(dirOf(t));
     owned[t] = here.owned;
     for (const auto& [di, dj] : {std::pair{0, 1}, {1, -1}, {1, 0}, {1, 1}}) {
@@ -101,12 +201,16 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
       } catch (const std::invalid_argument& e) {
         throw RunError("tiles '" + dirOf(t) + "' and '" + dirOf(u) + "': " + e.what());
       }
-      for (const auto& [a, b] : segmentsToJoin(counts, typesOf(t), typesOf(u))) {
-        sets.join(first[t] + static_cast<std::size_t>(a), first[u] + static_cast<std::size_t>(b));
-        ++summary.joins;
-      }
+      for (const auto& [a, b] : segmentsToJoin(counts, typesOf(t), typesOf(u)))
+        joins[t].emplace_back(first[t] + static_cast<std::size_t>(a),
+                              first[u] + static_cast<std::size_t>(b));
     }
-  }
+  });
+  for (const auto& pairs : joins)
+    for (const auto& [a, b] : pairs) {
+      sets.join(a, b);
+      ++summary.joins;
+    }
 
   // The segments of the whole cloud: the sets that own points, largest first (as an untiled
   // run numbers them), ties by their first piece.
@@ -166,105 +270,70 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
       v.insert(v.end(), {s.points(0, c), s.points(1, c), s.points(2, c), s.normals(0, c),
                          s.normals(1, c), s.normals(2, c), s.weights[k]});
     }
+    std::vector<std::size_t> complete;
     for (std::size_t l = 0; l < pieces[t].size(); ++l) {
       const std::int32_t g = idOf(t, static_cast<std::int32_t>(l));
       if (g >= 0 && --joined[static_cast<std::size_t>(g)].pieces_left == 0)
-        refit(joined[static_cast<std::size_t>(g)], origin);
+        complete.push_back(static_cast<std::size_t>(g));
     }
+    forEachOnWorkers(complete.size(), workers,
+                     [&](std::size_t k) { refit(joined[complete[k]], origin); });
   }
 
-  // segments.ply: each tile's own points, with the whole cloud's labels and colours.
-  std::uint64_t total = 0;
+  // segments.ply: each tile's own points, with the whole cloud's labels and colours. The tiles'
+  // rows have one size and each tile's place in the file follows from the points owned by the
+  // tiles before it: tiles are written side by side, each at its place (pwrite), and each
+  // tile's sums are kept apart and added in tile order.
+  std::vector<std::uint64_t> start(tiles + 1, 0);
   for (std::size_t t = 0; t < tiles; ++t)
-    total += owned[t];
+    start[t + 1] = start[t] + owned[t];
+  const std::uint64_t total = start[tiles];
   // The picture's points: every k-th point written, relative to the origin (float keeps them).
   const std::uint64_t every =
       std::max<std::uint64_t>(1, (total + kRenderedPoints - 1) / kRenderedPoints);
+  std::vector<TileRows> written(tiles);
+  outputs.add(segments_name, [&](const std::string& path) {
+    const std::vector<StreamField> fields =
+        withoutFields(CloudStream(dirOf(0) + "/" + segments_name).fields(), {"tile_row", "tile_core"});
+    const std::string header = plyHeader(fields, total);
+    {
+      std::ofstream out(path, std::ios::binary | std::ios::trunc);
+      writeOrFail(out, header.data(), header.size(), path);
+      out.close();
+      if (!out)
+        throw RunError("'" + path + "': write failed (disk full?)");
+    }
+    const std::uint64_t bytes = fields.back().offset + fields.back().bytes;
+    PositionalFile file(path);
+    forEachOnWorkers(tiles, workers, [&](std::size_t t) {
+      written[t] = writeTileRows(dirOf(t) + "/" + segments_name, fields, file,
+                                 header.size() + start[t] * bytes, start[t], every,
+                                 render != nullptr, origin, global[t], joined);
+      if (written[t].points != owned[t])
+        throw RunError("'" + dirOf(t) + "/" + segments_name + "': " +
+                       std::to_string(written[t].points) + " points owned, labels.bin says " +
+                       std::to_string(owned[t]));
+    });
+    file.close();
+  });
   std::vector<float> picture_points, picture_normals;
   std::vector<std::uint8_t> picture_colours;
-  outputs.add(segments_name, [&](const std::string& path) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    std::vector<StreamField> fields;
-    std::vector<char> rows, row_out;
-    for (std::size_t t = 0; t < tiles; ++t) {
-      const std::string ply = dirOf(t) + "/" + segments_name;
-      CloudStream in(ply);
-      const std::vector<StreamField> kept = withoutFields(in.fields(), {"tile_row", "tile_core"});
-      if (t == 0) {
-        fields = kept;
-        const std::string header = plyHeader(fields, total);
-        writeOrFail(out, header.data(), header.size(), path);
-      } else if (kept.size() != fields.size()) {
-        throw RunError("'" + ply + "': its fields differ from the first tile's");
-      }
-      const StreamField* core_f = findField(in.fields(), "tile_core");
-      const StreamField* label_f = findField(fields, "label");
-      const StreamField* type_f = findField(fields, "primitive");
-      const StreamField* rgb_f[3] = {findField(fields, "red"), findField(fields, "green"),
-                                     findField(fields, "blue")};
-      if (!core_f || !label_f || !type_f || !rgb_f[0] || !rgb_f[1] || !rgb_f[2])
-        throw RunError("'" + ply + "': not a segmentation output of a tile");
-      const FieldAt core = fieldAt(*core_f), label = fieldAt(*label_f), type = fieldAt(*type_f);
-      const FieldAt colour[3] = {fieldAt(*rgb_f[0]), fieldAt(*rgb_f[1]), fieldAt(*rgb_f[2])};
-      const FieldAt xyz[3] = {fieldAt(*findField(fields, "x")), fieldAt(*findField(fields, "y")),
-                              fieldAt(*findField(fields, "z"))};
-      const RowCopy copy(in.fields(), fields);
-      const StreamField* n_f[3] = {findField(fields, "normal_x"), findField(fields, "normal_y"),
-                                   findField(fields, "normal_z")};
-      if (!n_f[0])  // as written to the file
-        for (int a = 0; a < 3; ++a)
-          n_f[a] = findField(fields, std::string("n") + "xyz"[a]);
-      const std::uint64_t bytes = fields.back().offset + fields.back().bytes;
-      constexpr std::uint64_t kChunk = 1u << 16;
-      for (std::uint64_t r0 = 0; r0 < in.size(); r0 += kChunk) {
-        const std::uint64_t n = std::min(kChunk, in.size() - r0);
-        in.readRecords(r0, n, rows);
-        row_out.clear();
-        for (std::uint64_t r = 0; r < n; ++r) {
-          const char* row = rows.data() + r * in.recordBytes();
-          if (core.get(row) == 0.0)
-            continue;
-          const std::size_t at = row_out.size();
-          row_out.resize(at + bytes);
-          char* o = row_out.data() + at;
-          copy.apply(row, o);
-          const std::int32_t g = idOf(t, static_cast<std::int32_t>(label.get(o)));
-          label.set(o, g);
-          const Rgb c = g < 0 ? kUnassignedColour : segmentColour(static_cast<std::size_t>(g));
-          for (int a = 0; a < 3; ++a)
-            colour[a].set(o, c[static_cast<std::size_t>(a)]);
-          if (render && summary.points % every == 0) {
-            for (int a = 0; a < 3; ++a) {
-              picture_points.push_back(static_cast<float>(xyz[a].get(o) - origin[a]));
-              picture_normals.push_back(n_f[a] ? static_cast<float>(fieldAt(*n_f[a]).get(o))
-                                               : 0.0f);
-              picture_colours.push_back(c[static_cast<std::size_t>(a)]);
-            }
-          }
-          ++summary.points;
-          if (g < 0) {
-            type.set(o, -1);
-            continue;
-          }
-          Joined& j = joined[static_cast<std::size_t>(g)];
-          type.set(o, static_cast<double>(j.fit.type));
-          const Eigen::Vector3d p(xyz[0].get(o), xyz[1].get(o), xyz[2].get(o));
-          const double d = j.fit.ok() ? distance(p - origin, j.fit.refined) : 0.0;
-          j.sum_squares += d * d;
-          j.max_distance = std::max(j.max_distance, d);
-          j.inliers += d <= j.inlier_distance ? 1 : 0;
-          ++summary.assigned;
-        }
-        writeOrFail(out, row_out.data(), row_out.size(), path);
-      }
+  for (const TileRows& w : written) {
+    summary.points += w.points;
+    summary.assigned += w.assigned;
+    for (const auto& [g, d] : w.distances) {
+      Joined& j = joined[static_cast<std::size_t>(g)];
+      j.sum_squares += d.sum_squares;
+      j.max_distance = std::max(j.max_distance, d.max_distance);
+      j.inliers += d.inliers;
     }
-    out.close();
-    if (!out)
-      throw RunError("'" + path + "': write failed (disk full?)");
-    if (summary.points != total)
-      throw RunError("'" + path + "': " + std::to_string(summary.points) + " points written of " +
-                     std::to_string(total));
-  });
+    picture_points.insert(picture_points.end(), w.picture_points.begin(), w.picture_points.end());
+    picture_normals.insert(picture_normals.end(), w.picture_normals.begin(),
+                           w.picture_normals.end());
+    picture_colours.insert(picture_colours.end(), w.picture_colours.begin(),
+                           w.picture_colours.end());
+  }
+  written.clear();
 
   if (render) {
     const auto n = static_cast<Eigen::Index>(picture_points.size() / 3);

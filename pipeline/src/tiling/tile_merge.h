@@ -31,9 +31,10 @@ constexpr std::uint64_t kRenderedPoints = 2000000;
 
 /// Merges the finished runs of \a manifest's tiles in \a runs_dir (one directory per tile) into
 /// \a segments_name and \a report_name, and the picture when \a render is given, added to
-/// \a outputs (committed by the caller).
+/// \a outputs (committed by the caller). Up to \a workers tiles are read and written at a time;
+/// the outputs do not depend on it.
 MergeSummary mergeTiles(const TilingManifest& manifest, const std::string& runs_dir,
                         const std::string& segments_name, const std::string& report_name,
-                        const RenderRequest* render, OutputFiles& outputs);
+                        const RenderRequest* render, int workers, OutputFiles& outputs);
 
 }  // namespace slipfit::pipeline::tiling

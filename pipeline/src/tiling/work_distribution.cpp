@@ -1,11 +1,10 @@
 #include "work_distribution.h"
 
+#include "worker_pool.h"
+
 #include "slipfit/pipeline/errors.h"
 
-#include <atomic>
 #include <cstdlib>
-#include <exception>
-#include <thread>
 #include <vector>
 
 #ifdef SLIPFIT_WITH_MPI
@@ -64,7 +63,6 @@ WorkDistribution::~WorkDistribution() {
 }
 
 std::size_t WorkDistribution::take(std::size_t n) {
-  const std::lock_guard<std::mutex> lock(take_mutex_);
   if (!window_)
     return next_ < n ? next_++ : n;
   auto& window = *static_cast<MPI_Win*>(window_);
@@ -109,7 +107,6 @@ WorkDistribution::WorkDistribution() = default;
 WorkDistribution::~WorkDistribution() = default;
 
 std::size_t WorkDistribution::take(std::size_t n) {
-  const std::lock_guard<std::mutex> lock(take_mutex_);
   return next_ < n ? next_++ : n;
 }
 
@@ -127,37 +124,8 @@ std::size_t WorkDistribution::sum(std::size_t value) {
 void WorkDistribution::forEachTile(std::size_t n, int workers,
                                    const std::function<void(std::size_t)>& run) {
   next_ = 0;
-  std::mutex failure_mutex;
-  std::size_t failed_tile = n;
-  std::exception_ptr failure;
-  std::atomic<bool> stop{false};
-  const auto work = [&] {
-    while (!stop) {
-      const std::size_t t = take(n);
-      if (t >= n)
-        return;
-      try {
-        run(t);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(failure_mutex);
-        if (t < failed_tile) {
-          failed_tile = t;
-          failure = std::current_exception();
-        }
-        stop = true;
-      }
-    }
-  };
-  if (!threads_may_share_)
-    workers = 1;
-  std::vector<std::thread> threads;
-  for (int w = 1; w < workers && static_cast<std::size_t>(w) < n; ++w)
-    threads.emplace_back(work);
-  work();
-  for (auto& thread : threads)
-    thread.join();
-  if (failure)
-    std::rethrow_exception(failure);
+  runOnWorkers(
+      n, threads_may_share_ ? workers : 1, [&] { return take(n); }, run);
 }
 
 }  // namespace slipfit::pipeline::tiling

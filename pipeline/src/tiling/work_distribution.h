@@ -6,7 +6,6 @@
 
 #include <cstddef>
 #include <functional>
-#include <mutex>
 #include <string>
 
 namespace slipfit::pipeline::tiling {
@@ -36,13 +35,12 @@ class WorkDistribution {
   std::size_t sum(std::size_t value);
 
  private:
-  /// The next tile for this process to run; n when none is left.
+  /// The next tile for this process to run; n when none is left (one thread at a time).
   std::size_t take(std::size_t n);
 
   int rank_ = 0, size_ = 1;
   bool initialised_here_ = false;
   bool threads_may_share_ = true;  ///< the MPI library allows calls from any one thread at a time
-  std::mutex take_mutex_;
   std::size_t next_ = 0;    ///< the next tile without MPI
   void* window_ = nullptr;  ///< MPI_Win of the shared counter (with MPI)
 };
