@@ -8,6 +8,14 @@ scratch=$(mktemp -d /tmp/slipfit_interrupt.XXXXXX)
 trap 'rm -rf "$scratch"' EXIT
 set -m  # job control: background jobs do not start with SIGINT ignored
 status=0
+# appears GLOB SECONDS: waits until a file matches GLOB; fails after SECONDS.
+appears() {
+  for _ in $(seq 1 $(($2 * 100))); do
+    compgen -G "$1" >/dev/null && return 0
+    sleep 0.01
+  done
+  return 1
+}
 for signal in INT TERM; do
   out=$scratch/out
   rm -rf "$out"
@@ -16,15 +24,7 @@ for signal in INT TERM; do
     "$out" >"$scratch/big.yaml"
   "$slipfit" run "$scratch/big.yaml" --quiet 2>"$scratch/err" &
   pid=$!
-  seen=""
-  for _ in $(seq 1 3000); do  # up to 30 s
-    if compgen -G "$out/.big.tmp.*" >/dev/null; then
-      seen=yes
-      break
-    fi
-    sleep 0.01
-  done
-  if [ -z "$seen" ]; then
+  if ! appears "$out/.big.tmp.*" 30; then
     echo "FAIL ($signal): no temporary file appeared in $out"
     kill -KILL "$pid" 2>/dev/null
     status=1
@@ -56,13 +56,7 @@ out=$scratch/tiled
   --set output.dir="$out" --set tiling.size=3 2>"$scratch/err" &
 pid=$!
 seen=""
-for _ in $(seq 1 6000); do  # up to 60 s
-  if compgen -G "$out/tiles/runs/*/done" >/dev/null; then
-    seen=yes
-    break
-  fi
-  sleep 0.01
-done
+appears "$out/tiles/runs/*/done" 60 && seen=yes
 tiles=$(ls "$out/tiles/tiles" 2>/dev/null | wc -l)
 done_tiles=$(compgen -G "$out/tiles/runs/*/done" | wc -l)
 kill -INT "$pid"
