@@ -52,7 +52,9 @@ void TilingSection::declare(OptionSet& o) {
 }
 
 void RunSettings::declare(OptionSet& o) {
-  o.add("threads", threads, "Worker threads for parallel stages; 0 uses every core.")
+  o.add("threads", threads,
+        "Worker threads for parallel stages (a tiled run: tiles run at a time, one thread each); "
+        "0 uses every core.")
       .range(0, 1024);
   o.add("seed", seed, "Seed of every random choice, for reproducible runs.");
 }
