@@ -52,9 +52,15 @@ inline CliResult runSlipfit(const std::string& args, const std::string& prefix =
   return r;
 }
 
-/// This process's scratch directory: ctest runs tests in parallel, each in its own process.
+/// This process's scratch directory: ctest runs tests in parallel, each in its own process. It is
+/// emptied on first use: an earlier process with the same pid (pids are reused) may have left
+/// files of the same names.
 inline std::string processScratch() {
-  const std::string dir = std::string(kScratchDir) + "/p" + std::to_string(::getpid());
+  static const std::string dir = [] {
+    const std::string path = std::string(kScratchDir) + "/p" + std::to_string(::getpid());
+    std::filesystem::remove_all(path);
+    return path;
+  }();
   std::filesystem::create_directories(dir);
   return dir;
 }
