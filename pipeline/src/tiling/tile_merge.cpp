@@ -130,8 +130,7 @@ TileRows writeTileRows(const std::string& ply, const std::vector<StreamField>& f
       if (picture && (first + w.points) % every == 0) {
         for (int a = 0; a < 3; ++a) {
           w.picture_points.push_back(static_cast<float>(xyz[a].get(o) - origin[a]));
-          w.picture_normals.push_back(n_f[a] ? static_cast<float>(fieldAt(*n_f[a]).get(o))
-                                             : 0.0f);
+          w.picture_normals.push_back(n_f[a] ? static_cast<float>(fieldAt(*n_f[a]).get(o)) : 0.0f);
           w.picture_colours.push_back(c[static_cast<std::size_t>(a)]);
         }
       }
@@ -293,8 +292,8 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
       std::max<std::uint64_t>(1, (total + kRenderedPoints - 1) / kRenderedPoints);
   std::vector<TileRows> written(tiles);
   outputs.add(segments_name, [&](const std::string& path) {
-    const std::vector<StreamField> fields =
-        withoutFields(CloudStream(dirOf(0) + "/" + segments_name).fields(), {"tile_row", "tile_core"});
+    const std::vector<StreamField> fields = withoutFields(
+        CloudStream(dirOf(0) + "/" + segments_name).fields(), {"tile_row", "tile_core"});
     const std::string header = plyHeader(fields, total);
     {
       std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -310,9 +309,9 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
                                  header.size() + start[t] * bytes, start[t], every,
                                  render != nullptr, origin, global[t], joined);
       if (written[t].points != owned[t])
-        throw RunError("'" + dirOf(t) + "/" + segments_name + "': " +
-                       std::to_string(written[t].points) + " points owned, labels.bin says " +
-                       std::to_string(owned[t]));
+        throw RunError("'" + dirOf(t) + "/" + segments_name +
+                       "': " + std::to_string(written[t].points) +
+                       " points owned, labels.bin says " + std::to_string(owned[t]));
     });
     file.close();
   });

@@ -41,8 +41,8 @@ class WorkDistribution {
   int rank_ = 0, size_ = 1;
   bool initialised_here_ = false;
   bool threads_may_share_ = true;  ///< the MPI library allows calls from any one thread at a time
-  std::size_t next_ = 0;    ///< the next tile without MPI
-  void* window_ = nullptr;  ///< MPI_Win of the shared counter (with MPI)
+  std::size_t next_ = 0;           ///< the next tile without MPI
+  void* window_ = nullptr;         ///< MPI_Win of the shared counter (with MPI)
 };
 
 }  // namespace slipfit::pipeline::tiling
