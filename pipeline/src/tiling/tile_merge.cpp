@@ -105,6 +105,8 @@ TileRows writeTileRows(const std::string& ply, const std::vector<StreamField>& f
   const std::uint64_t bytes = fields.back().offset + fields.back().bytes;
 
   TileRows w;
+  std::int32_t last = -1;  // runs of one label are common: its sums are looked up once a run
+  Distances* sums = nullptr;
   std::vector<char> rows, row_out;
   constexpr std::uint64_t kChunk = 1u << 16;
   for (std::uint64_t r0 = 0; r0 < in.size(); r0 += kChunk) {
@@ -143,10 +145,13 @@ TileRows writeTileRows(const std::string& ply, const std::vector<StreamField>& f
       type.set(o, static_cast<double>(j.fit.type));
       const Eigen::Vector3d p(xyz[0].get(o), xyz[1].get(o), xyz[2].get(o));
       const double d = j.fit.ok() ? distance(p - origin, j.fit.refined) : 0.0;
-      Distances& s = w.distances[g];
-      s.sum_squares += d * d;
-      s.max_distance = std::max(s.max_distance, d);
-      s.inliers += d <= j.inlier_distance ? 1 : 0;
+      if (g != last) {
+        sums = &w.distances[g];  // std::map: the pointer stays valid as entries are added
+        last = g;
+      }
+      sums->sum_squares += d * d;
+      sums->max_distance = std::max(sums->max_distance, d);
+      sums->inliers += d <= j.inlier_distance ? 1 : 0;
       ++w.assigned;
     }
     file.write(offset + chunk_first * bytes, row_out.data(), row_out.size());
