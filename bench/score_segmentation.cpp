@@ -16,6 +16,7 @@
 #include <pcl/io/ply_io.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <iomanip>
@@ -51,6 +52,36 @@ double angleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) / kDegree;
 }
 
+/// The truth is scene_sampling's fixed scene: one label per fixed primitive, of its type, and
+/// the median distance of each label's points to it within 5 % of the smallest radius (0.35; the
+/// scene's noise is at most 1 % of the object size).
+bool isFixedScene(const std::string& file, const std::vector<std::int32_t>& truth,
+                  const std::vector<int>& truth_types,
+                  const std::vector<slipfit::ScenePrimitive>& fixed_scene) {
+  if (truth_types.size() != fixed_scene.size())
+    return false;
+  for (std::size_t l = 0; l < fixed_scene.size(); ++l)
+    if (truth_types[l] != static_cast<int>(slipfit::typeOf(fixed_scene[l].primitive)))
+      return false;
+  pcl::PointCloud<pcl::PointXYZ> xyz;
+  if (pcl::io::loadPLYFile(file, xyz) < 0 || xyz.size() != truth.size())
+    return false;
+  std::vector<std::vector<double>> distances(fixed_scene.size());
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    if (truth[i] >= 0)
+      distances[static_cast<std::size_t>(truth[i])].push_back(
+          slipfit::distance(xyz[i].getVector3fMap().cast<double>(),
+                            fixed_scene[static_cast<std::size_t>(truth[i])].primitive));
+  for (auto& d : distances) {
+    if (d.empty())
+      return false;
+    std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+    if (d[d.size() / 2] > 0.05 * 0.35)
+      return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -74,14 +105,14 @@ int main(int argc, char** argv) try {
   if (truth.size() != label.size())
     throw std::runtime_error("the truth and the result differ in point count");
 
-  // The true type of each label: the field truth_type (random scenes), else the fixed scene's.
+  // The true type of each label: the field truth_type (both layouts write it), else the fixed
+  // scene's. Parameter errors need the true parameters: the fixed scene's only, recognised by its
+  // labels' types and by its points lying on its primitives.
   const auto& fixed_scene = slipfit::scenePrimitives();
-  std::vector<slipfit::ScenePrimitive> no_parameters;
   std::vector<int> truth_types;
-  bool random_scene = false;
+  bool fixed = true;
   try {
     const std::vector<std::int32_t> ttype = intField(truth_file, "truth_type");
-    random_scene = true;
     for (std::size_t i = 0; i < truth.size(); ++i)
       if (truth[i] >= 0) {
         const auto l = static_cast<std::size_t>(truth[i]);
@@ -89,12 +120,13 @@ int main(int argc, char** argv) try {
           truth_types.resize(l + 1, -1);
         truth_types[l] = ttype[i];
       }
+    fixed = isFixedScene(truth_file, truth, truth_types, fixed_scene);
   } catch (const std::runtime_error&) {
     for (const auto& p : fixed_scene)
       truth_types.push_back(static_cast<int>(slipfit::typeOf(p.primitive)));
   }
-  // Parameter errors need the true parameters: the fixed scene's only.
-  const auto& scene = random_scene ? no_parameters : fixed_scene;
+  const std::vector<slipfit::ScenePrimitive> no_parameters;
+  const auto& scene = fixed ? fixed_scene : no_parameters;
   std::int32_t segments = 0;
   for (std::int32_t l : label)
     segments = std::max(segments, l + 1);
