@@ -56,6 +56,11 @@ constexpr double kTieShare = 2.0 / 3.0;
 // must hold), and the share of them its fit must hold.
 constexpr std::size_t kSmallestPatch = 8;
 constexpr double kHeld = 0.8;
+// recoverSmallFaces: a face whose points lie further apart than this many times the points of the
+// faces around it is points scattered through the volume, not a surface sampled like its
+// surroundings. Points sampled at random on a surface with density ρ are a median 0.47/√ρ from
+// their nearest; twice that is a surface sampled a quarter as densely as its surroundings.
+constexpr double kScattered = 2.0;
 
 double quantile(std::vector<double> v, double q) {
   if (v.empty())
@@ -63,6 +68,37 @@ double quantile(std::vector<double> v, double q) {
   auto at = v.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
   std::nth_element(v.begin(), at, v.end());
   return *at;
+}
+
+/// The median distance from each of \a set to its nearest other point (0 for an empty set).
+double medianNearestDistance(const Neighborhoods& hoods, const std::vector<int>& set) {
+  std::vector<double> d;
+  d.reserve(set.size());
+  for (int i : set) {
+    const NeighborView v = hoods[static_cast<std::size_t>(i)];
+    if (v.size() > 1)
+      d.push_back(std::sqrt(static_cast<double>(v.sqr_distances[1])));
+  }
+  return d.empty() ? 0.0 : quantile(std::move(d), 0.5);
+}
+
+/// The median distance from each of \a set to its nearest other member of the set (those whose
+/// \a stamp is \a mark) among its neighbors; a point with none among them counts its farthest
+/// neighbor's distance, a lower bound.
+double medianNearestWithin(const Neighborhoods& hoods, const std::vector<int>& set,
+                           const std::vector<std::uint32_t>& stamp, std::uint32_t mark) {
+  std::vector<double> d;
+  d.reserve(set.size());
+  for (int i : set) {
+    const NeighborView v = hoods[static_cast<std::size_t>(i)];
+    if (v.size() < 2)
+      continue;
+    std::size_t j = 1;
+    while (j + 1 < v.size() && stamp[static_cast<std::size_t>(v[j])] != mark)
+      ++j;
+    d.push_back(std::sqrt(static_cast<double>(v.sqr_distances[j])));
+  }
+  return d.empty() ? 0.0 : quantile(std::move(d), 0.5);
 }
 
 /// q-quantile of χ²_ν / ν by the Wilson–Hilferty approximation, for the z-score \a z of q.
@@ -272,6 +308,7 @@ void SegmentationKernel::estimateScale() {
   // Distances closer than the floor of noise-free data (a twentieth of the spacing) cannot tell
   // two primitives apart: see shareEdges.
   edge_margin_ = kSpacingFactor * scale.spacing;
+  spacing_ = scale.spacing;
   result_.noise = scale.noise;
   result_.noise_factor = parameters_.distance ? 0.0 : kNoiseFactor;
   result_.distance =
@@ -898,6 +935,7 @@ void SegmentationKernel::recoverSmallFaces() {
   Eigen::Matrix3Xd own(3, static_cast<Eigen::Index>(n_));  // normals within a face: see below
   std::vector<char> known(n_, 0);
   const double cos_angle = std::cos(result_.max_angle);
+  const std::size_t first_recovered = regions_.size();
   // The free points among the neighbors of free point i and among those of its labelled
   // neighbors: a wall whose free rows are cut by the edge rows the faces took stays one patch.
   const auto forEachFreeNear = [&](int i, const auto& visit) {
@@ -927,6 +965,21 @@ void SegmentationKernel::recoverSmallFaces() {
         }
       }
     std::sort(rim.begin(), rim.end());
+    // Outliers scattered through the volume are free points too: a face's points must lie as
+    // near each other as the points of the faces around it lie to theirs (or, with too few of
+    // them, as the cloud's). Faces recovered here do not count: outliers would vouch for
+    // outliers.
+    std::vector<int> grown_rim;
+    for (int j : rim)
+      if (static_cast<std::size_t>(result_.labels[static_cast<std::size_t>(j)]) < first_recovered)
+        grown_rim.push_back(j);
+    const double around =
+        grown_rim.size() >= kSmallestPatch ? medianNearestDistance(hoods_, grown_rim) : spacing_;
+    ++generation;
+    for (int i : face)
+      stamp[static_cast<std::size_t>(i)] = generation;
+    if (medianNearestWithin(hoods_, face, stamp, generation) > kScattered * around)
+      return false;
     estimateOwnNormals(points_, normals_, hoods_, face, stamp, ++generation, own, known);
     FitResult fit = fitSet(points_, own, face);
     std::vector<int> members, edges;

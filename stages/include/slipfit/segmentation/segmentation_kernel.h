@@ -129,6 +129,7 @@ class SegmentationKernel {
   std::vector<SlippageType> seed_types_;
   std::vector<char> alive_;
   double edge_margin_ = 0.0;  ///< distances within this are a tie (shareEdges), units
+  double spacing_ = 0.0;      ///< the median nearest-neighbour distance, units
 };
 
 }  // namespace slipfit
