@@ -2,6 +2,7 @@
 // faces and continuous noise are not; neighborhoods widened across the levels give the surface's
 // normal where the k nearest of one level give the view axis.
 
+#include "kinect_plane.h"
 #include "shared_neighborhoods.h"
 
 #include "slipfit/neighborhoods/depth_quantization.h"
@@ -17,31 +18,8 @@
 namespace slipfit {
 namespace {
 
-constexpr double kStepPerZ2 = 0.003;  // a Kinect's depth step: about 3 mm at 1 m
-
-/// A pixel grid (focal length 525, 320 × 240) seeing a plane tilted 40° about x at depth 1–2 m,
-/// with Gaussian depth noise sigma, its depth then recorded as a disparity sensor does: the
-/// nearest of the levels 1/(c d), d an integer, c = kStepPerZ2, which lie c·z² apart.
-Eigen::Matrix3Xd kinectPlane(double sigma, bool quantize, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> noise(0.0, sigma);
-  const double tilt = 40.0 * M_PI / 180.0;
-  std::vector<Eigen::Vector3d> pts;
-  for (int v = 0; v < 240; ++v)
-    for (int u = 0; u < 320; ++u) {
-      const Eigen::Vector3d ray((u - 160) / 525.0, (v - 120) / 525.0, 1.0);
-      // plane: z = 1.5 + tan(tilt)·y  →  ray·t
-      const double t = 1.5 / (1.0 - std::tan(tilt) * ray.y());
-      double z = t + noise(rng);
-      if (quantize)  // depth from an integer disparity d ∝ 1/z: levels 1/(c d), c z² apart
-        z = 1.0 / (kStepPerZ2 * std::round(1.0 / (kStepPerZ2 * z)));
-      pts.emplace_back(ray.x() * z, ray.y() * z, z);
-    }
-  Eigen::Matrix3Xd m(3, static_cast<Eigen::Index>(pts.size()));
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    m.col(static_cast<Eigen::Index>(i)) = pts[i];
-  return m;
-}
+using testing::kinectPlane;
+using testing::kStepPerZ2;
 
 TEST(DepthQuantization, KinectLikeDepthIsDetectedWithItsLocalStep) {
   const Eigen::Matrix3Xd p = kinectPlane(0.001, true, 1);

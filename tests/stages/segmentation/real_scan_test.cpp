@@ -85,6 +85,8 @@ std::size_t assigned(const SegmentationResult& r) {
 // table one plane segment, 0.121° from that single run and 0.105° from the mean of the 100, holding
 // 97.8 % of the run's inliers (92 % before fragments were absorbed, 184 segments then, 70 now);
 // 95 % of the scan assigned. The issues' 0.1° is not reached; the oracle itself does not hold it:
+// PCL's own 100 runs are within 0.1° of each other in 3153 of 4950 pairs (64 %), and 13 of the 99
+// others are within 0.1° of the file-order run (23 of the 100 are within 0.1° of slipfit's table);
 // PCL's plane at thresholds of 0.4, 0.6, 0.8, 1.25 cm lies 0.13, 0.06, 0.03, 0.04° from its plane
 // at 1 cm, and 0.39° at 1.5 cm (the Kinect's depth distortion bends the far table by 1–2 cm, and
 // each threshold takes a different share of the bend).
@@ -103,10 +105,27 @@ TEST(RealScan, MilkCartonTableIsOnePlaneNearPclRansacsAndNoSegmentIsADepthSlice)
   ASSERT_EQ(s.fit.type, PrimitiveType::plane) << "segment " << k;
   const Eigen::Vector3d normal = std::get<Plane>(s.fit.refined).normal;
   const double angle = angleDegrees(normal, oracle.normal);
-  const double to_consensus =
-      angleDegrees(normal, testing::ransacConsensusNormal<pcl::PointNormal>(cloud, 0.01, 100));
+  std::vector<Eigen::Vector3d> runs;
+  const double to_consensus = angleDegrees(
+      normal, testing::ransacConsensusNormal<pcl::PointNormal>(cloud, 0.01, 100, &runs));
   EXPECT_LT(angle, 0.125);
   EXPECT_LT(to_consensus, 0.11);
+  // How often PCL's own runs agree within 0.1°: with each other, with the run in the file's order,
+  // and with slipfit's table.
+  std::size_t pairs = 0, agreeing_pairs = 0, near_first = 0, near_slipfit = 0;
+  for (std::size_t a = 0; a < runs.size(); ++a) {
+    near_slipfit += angleDegrees(runs[a], normal) < 0.1 ? 1 : 0;
+    near_first += a > 0 && angleDegrees(runs[a], runs[0]) < 0.1 ? 1 : 0;
+    for (std::size_t b = a + 1; b < runs.size(); ++b, ++pairs)
+      agreeing_pairs += angleDegrees(runs[a], runs[b]) < 0.1 ? 1 : 0;
+  }
+  std::cout << name << ": PCL's runs within 0.1° of each other in " << agreeing_pairs << " of "
+            << pairs << " pairs, of the file-order run " << near_first << " of 99, of slipfit's "
+            << near_slipfit << " of 100\n";
+  ASSERT_EQ(runs.size(), 100u);
+  EXPECT_LE(agreeing_pairs, 3153u) << "PCL's RANSAC planes agree within 0.1° in 64 % of pairs";
+  EXPECT_LE(near_first, 13u) << "13 of PCL's 99 other runs are within 0.1° of the file-order run";
+  EXPECT_GE(near_slipfit, 23u) << "23 of PCL's 100 runs are within 0.1° of slipfit's table";
   std::size_t shared = 0;
   for (const auto i : inliers.indices)
     shared += r.labels[static_cast<std::size_t>(i)] == static_cast<std::int32_t>(k) ? 1 : 0;
