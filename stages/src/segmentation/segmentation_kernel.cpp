@@ -427,6 +427,11 @@ void SegmentationKernel::growFreeSeeds() {
   // adequate type of its unlabelled neighbors.
   RegionGrower& grower = *grower_;
   std::fill(tried_.begin(), tried_.end(), 0);
+  // Outliers scattered through the volume have free neighborhoods too: a seed's must be sampled
+  // like the regions of the first round around it (THEORY §6 step 8b).
+  const std::vector<double> seeded_spacing = regionSpacings();
+  std::vector<std::uint32_t> stamp(n_, 0);
+  std::uint32_t generation = 0;
   for (std::size_t us = 0; us < n_; ++us) {
     if (result_.labels[us] >= 0 || tried_[us])
       continue;
@@ -460,6 +465,8 @@ void SegmentationKernel::growFreeSeeds() {
         held += grower.accepts(j, start.refined) ? 1 : 0;
       holds = held >= 3 * static_cast<std::size_t>(parameterCount(start.type));
     }
+    if (holds)
+      holds = !isScattered(members, seeded_spacing, stamp, generation);
     if (!holds) {
       // No surface here (outliers, or an edge): none of these points seeds again.
       for (int j : members)
@@ -916,6 +923,37 @@ void SegmentationKernel::joinCreases() {
   }
 }
 
+std::vector<double> SegmentationKernel::regionSpacings() const {
+  std::vector<double> spacings(regions_.size(), 0.0);
+  for (std::size_t r = 0; r < regions_.size(); ++r)
+    if (alive_[r])
+      spacings[r] = medianNearestDistance(hoods_, regions_[r]);
+  return spacings;
+}
+
+bool SegmentationKernel::isScattered(const std::vector<int>& set,
+                                     const std::vector<double>& spacings,
+                                     std::vector<std::uint32_t>& stamp,
+                                     std::uint32_t& generation) const {
+  // The densest region around, not its points next to the set: those are often outliers that
+  // joined it within tolerance, as sparse as the set.
+  double around = spacing_;
+  bool found = false;
+  for (int i : set)
+    for (pcl::index_t j : hoods_[static_cast<std::size_t>(i)]) {
+      const auto r = static_cast<std::size_t>(result_.labels[static_cast<std::size_t>(j)]);
+      if (result_.labels[static_cast<std::size_t>(j)] >= 0 && r < spacings.size() &&
+          spacings[r] > 0.0 && (!found || spacings[r] < around)) {
+        around = spacings[r];
+        found = true;
+      }
+    }
+  ++generation;
+  for (int i : set)
+    stamp[static_cast<std::size_t>(i)] = generation;
+  return medianNearestWithin(hoods_, set, stamp, generation) > kScattered * around;
+}
+
 void SegmentationKernel::recoverSmallFaces() {
   // Free points left after the crease pass are within tolerance of no adjacent primitive. A
   // connected patch of them is a face too small to have seeded (the wall of a hole two rows of
@@ -935,7 +973,9 @@ void SegmentationKernel::recoverSmallFaces() {
   Eigen::Matrix3Xd own(3, static_cast<Eigen::Index>(n_));  // normals within a face: see below
   std::vector<char> known(n_, 0);
   const double cos_angle = std::cos(result_.max_angle);
-  const std::size_t first_recovered = regions_.size();
+  // Faces recovered here do not vouch for the density of others: outliers would vouch for
+  // outliers.
+  const std::vector<double> grown_spacing = regionSpacings();
   // The free points among the neighbors of free point i and among those of its labelled
   // neighbors: a wall whose free rows are cut by the edge rows the faces took stays one patch.
   const auto forEachFreeNear = [&](int i, const auto& visit) {
@@ -965,20 +1005,8 @@ void SegmentationKernel::recoverSmallFaces() {
         }
       }
     std::sort(rim.begin(), rim.end());
-    // Outliers scattered through the volume are free points too: a face's points must lie as
-    // near each other as the points of the faces around it lie to theirs (or, with too few of
-    // them, as the cloud's). Faces recovered here do not count: outliers would vouch for
-    // outliers.
-    std::vector<int> grown_rim;
-    for (int j : rim)
-      if (static_cast<std::size_t>(result_.labels[static_cast<std::size_t>(j)]) < first_recovered)
-        grown_rim.push_back(j);
-    const double around =
-        grown_rim.size() >= kSmallestPatch ? medianNearestDistance(hoods_, grown_rim) : spacing_;
-    ++generation;
-    for (int i : face)
-      stamp[static_cast<std::size_t>(i)] = generation;
-    if (medianNearestWithin(hoods_, face, stamp, generation) > kScattered * around)
+    // Outliers scattered through the volume are free points too (THEORY §6 step 8b).
+    if (isScattered(face, grown_spacing, stamp, generation))
       return false;
     estimateOwnNormals(points_, normals_, hoods_, face, stamp, ++generation, own, known);
     FitResult fit = fitSet(points_, own, face);

@@ -7,13 +7,16 @@
 ///    bounded by the region's own fit, the type re-chosen on the grown region (selection);
 /// 3. growFreeSeeds — a second seeding round from the points still free (small faces whose
 ///    neighborhoods all straddle an edge), with the simplest adequate type of the seed's neighbors;
+///    a seed's free neighbors must be sampled like the regions around them (isScattered: not
+///    outliers scattered through the volume);
 /// 4. mergeRegions — adjacent regions whose union one primitive fits about as well;
 /// 5. reviseTypes — a region's type re-chosen on the points of its neighbors it contests (the
 ///    band of a tangent fillet that read as a plane);
 /// 6. refineBoundaries — points that a neighboring segment's primitive explains better move;
 /// 7. joinCreases — free points at creases join the nearest adjacent primitive within tolerance;
 /// 8. recoverSmallFaces — a patch of free points that no adjacent primitive explains is a face too
-///    small to seed (a hole's wall, a narrow fillet): fitted with the edge points it shares;
+///    small to seed (a hole's wall, a narrow fillet): fitted with the edge points it shares, when
+///    it is sampled like the regions around it (isScattered);
 /// 9. absorbFragments — a region that a neighbor four times its size explains as well as that
 ///    neighbor's own points joins it (specks of one noisy surface that grew apart);
 /// 10. mergeSettledRegions — adjacent regions merge again, now that boundaries and creases have
@@ -110,6 +113,14 @@ class SegmentationKernel {
   void drop(std::size_t region);
   /// Angle between point i's normal and \a primitive's at it (unsigned), radians.
   double normalAngle(int i, const Primitive& primitive) const;
+  /// Each live region's median nearest-neighbour distance (0 for the dead ones).
+  std::vector<double> regionSpacings() const;
+  /// The points \a set (free) lie further apart than kScattered × the points of the densest region
+  /// among \a spacings (indexed by region; regions beyond it do not count) that holds a neighbor
+  /// of theirs, or than the cloud's points when none does: scattered points, not a surface.
+  /// \a stamp marks the set with a fresh \a generation.
+  bool isScattered(const std::vector<int>& set, const std::vector<double>& spacings,
+                   std::vector<std::uint32_t>& stamp, std::uint32_t& generation) const;
   /// RMS distance of \a members to \a primitive, each distance scaled by the members' smallest
   /// tolerance over its own (the RMS distance when all tolerances are equal).
   double precisionRms(const std::vector<int>& members, const Primitive& primitive) const;
