@@ -4,6 +4,7 @@
 // lets the far rows tilt it.
 
 #include "kinect_plane.h"
+#include "points_cloud.h"
 #include "ransac_plane_oracle.h"
 #include "segment_cloud.h"
 
@@ -18,16 +19,6 @@
 
 namespace slipfit {
 namespace {
-
-pcl::PointCloud<pcl::PointNormal>::Ptr toCloud(const Eigen::Matrix3Xd& p) {
-  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-  for (Eigen::Index i = 0; i < p.cols(); ++i) {
-    pcl::PointNormal q;
-    q.getVector3fMap() = p.col(i).cast<float>();
-    cloud->push_back(q);
-  }
-  return cloud;
-}
 
 /// The least-squares plane's normal of \a members (equal weights).
 Eigen::Vector3d leastSquaresNormal(const pcl::PointCloud<pcl::PointNormal>& cloud,
@@ -55,10 +46,11 @@ Eigen::Vector3d leastSquaresNormal(const pcl::PointCloud<pcl::PointNormal>& clou
 TEST(FinalFit, AKinectTableBentAtItsFarRowsIsLedByItsNearRows) {
   for (const unsigned seed : {1u, 2u}) {
     for (const double bend : {0.0, 0.02}) {
-      const auto cloud = toCloud(testing::kinectPlane(0.001, true, seed, [bend](double z) {
-        const double far = std::max(0.0, z - 1.6) / 0.4;
-        return bend * far * far;
-      }));
+      const auto cloud =
+          testing::pointsCloud(testing::kinectPlane(0.001, true, seed, [bend](double z) {
+            const double far = std::max(0.0, z - 1.6) / 0.4;
+            return bend * far * far;
+          }));
       const SegmentationResult r = testing::segmentCloud(cloud, 12).result;
       const std::string what = "seed " + std::to_string(seed) + ", bend " + std::to_string(bend);
       ASSERT_FALSE(r.segments.empty()) << what;

@@ -4,6 +4,7 @@
 // segments for its 10 primitives: 183 of them spheres, cylinders and tori of 13–60 points, 89 %
 // of their points outliers.
 
+#include "points_cloud.h"
 #include "segment_cloud.h"
 
 #include "slipfit/sampling/scene_sampler.h"
@@ -55,12 +56,7 @@ TEST(ScatteredPoints, OutliersInTheVolumeAreNoSmallFaces) {
     Eigen::Matrix3Xd p, n;
     std::vector<std::int32_t> truth;
     sampleScene(sp, p, n, truth);
-    auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-    for (Eigen::Index i = 0; i < p.cols(); ++i) {
-      pcl::PointNormal q;
-      q.getVector3fMap() = p.col(i).cast<float>();
-      cloud->push_back(q);
-    }
+    const auto cloud = testing::pointsCloud(p);
     const auto hoods = testing::knnNeighborhoods(cloud, 12);
     testing::estimateNormals(cloud, hoods);
     pcl::PointCloud<PointSlippage> slippage;

@@ -1,5 +1,6 @@
 // The segmentation kernel's phases, run one at a time and inspected between them.
 
+#include "points_cloud.h"
 #include "segment_cloud.h"
 
 #include "slipfit/sampling/primitive_sampler.h"
@@ -49,13 +50,7 @@ Inputs prepare(const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud, int k) {
 pcl::PointCloud<pcl::PointNormal>::Ptr sampledCloud(const PrimitiveSamplingParameters& sp) {
   Eigen::Matrix3Xd p, nrm;
   samplePrimitive(sp, p, nrm);
-  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-  for (Eigen::Index i = 0; i < p.cols(); ++i) {
-    pcl::PointNormal q;
-    q.getVector3fMap() = p.col(i).cast<float>();
-    cloud->push_back(q);
-  }
-  return cloud;
+  return testing::pointsCloud(p);
 }
 
 std::size_t live(const SegmentationKernel& kernel) {
