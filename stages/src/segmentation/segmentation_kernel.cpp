@@ -83,8 +83,8 @@ double medianNearestDistance(const Neighborhoods& hoods, const std::vector<int>&
 }
 
 /// The median distance from each of \a set to its nearest other member of the set (those whose
-/// \a stamp is \a mark) among its neighbors; a point with none among them counts its farthest
-/// neighbor's distance, a lower bound.
+/// \a stamp is \a mark) among its neighbors; a point with none among them is not sampled with
+/// the set (+inf): an outlier whose nearest are all points of a surface nearby.
 double medianNearestWithin(const Neighborhoods& hoods, const std::vector<int>& set,
                            const std::vector<std::uint32_t>& stamp, std::uint32_t mark) {
   std::vector<double> d;
@@ -94,9 +94,10 @@ double medianNearestWithin(const Neighborhoods& hoods, const std::vector<int>& s
     if (v.size() < 2)
       continue;
     std::size_t j = 1;
-    while (j + 1 < v.size() && stamp[static_cast<std::size_t>(v[j])] != mark)
+    while (j < v.size() && stamp[static_cast<std::size_t>(v[j])] != mark)
       ++j;
-    d.push_back(std::sqrt(static_cast<double>(v.sqr_distances[j])));
+    d.push_back(j < v.size() ? std::sqrt(static_cast<double>(v.sqr_distances[j]))
+                             : std::numeric_limits<double>::infinity());
   }
   return d.empty() ? 0.0 : quantile(std::move(d), 0.5);
 }
@@ -1079,6 +1080,10 @@ void SegmentationKernel::recoverSmallFaces() {
       // Each point seeds once, and the two rings of a seed that no primitive fits seed no more.
       used[us] = 1;
       if (face.size() < kSmallestPatch)
+        continue;
+      // Scattered outliers fail before any fit is made (tryFace checks the grown face again);
+      // their points may still seed rings of their own.
+      if (isScattered(face, grown_spacing, stamp, generation))
         continue;
       const FitResult fit = grower.fitBest(face);
       if (!fit.ok()) {
