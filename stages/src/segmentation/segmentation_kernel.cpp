@@ -61,6 +61,10 @@ constexpr double kHeld = 0.8;
 // surroundings. Points sampled at random on a surface with density ρ are a median 0.47/√ρ from
 // their nearest; twice that is a surface sampled a quarter as densely as its surroundings.
 constexpr double kScattered = 2.0;
+// growFreeSeeds: a gap this many tolerances wide between the offsets of a seed's 2-ring along its
+// normal divides two sheets of a thin wall. The tolerance is 3 σ̂ (plus a twentieth of the
+// spacing): a gap of 12 σ̂ between neighbouring offsets of one noisy surface does not occur.
+constexpr double kSheetGap = 4.0;
 
 double quantile(std::vector<double> v, double q) {
   if (v.empty())
@@ -116,16 +120,17 @@ struct DataScale {
 };
 
 /// Residual sum of squares of the height field h = a u² + b uv + c v² + d u + e v + f fitted
-/// to the points of \a v in the frame of their principal axes (h along the least one).
-double quadricResidual(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const NeighborView& v,
-                       const Eigen::Vector3d& mean, const Eigen::Matrix3d& axes) {
-  const auto k = static_cast<Eigen::Index>(v.size());
+/// to the points \a idx in the frame of their principal axes (h along the least one).
+double quadricResidual(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                       const std::vector<pcl::index_t>& idx, const Eigen::Vector3d& mean,
+                       const Eigen::Matrix3d& axes) {
+  const auto k = static_cast<Eigen::Index>(idx.size());
   Eigen::MatrixXd a(k, 6);
   Eigen::VectorXd h(k);
   double scale = 0.0;
   for (Eigen::Index j = 0; j < k; ++j) {
     const Eigen::Vector3d d =
-        axes.transpose() * (points.col(v[static_cast<std::size_t>(j)]) - mean);
+        axes.transpose() * (points.col(idx[static_cast<std::size_t>(j)]) - mean);
     scale = std::max(scale, std::abs(d(1)) + std::abs(d(2)));
     h(j) = d(0);
     a.row(j) << d(1) * d(1), d(1) * d(2), d(2) * d(2), d(1), d(2), 1.0;
@@ -143,7 +148,104 @@ double quadricResidual(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const N
   return (a * x - h).squaredNorm();
 }
 
-DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neighborhoods& hoods) {
+/// The mean and principal axes (least variance first) of the points \a idx.
+std::pair<Eigen::Vector3d, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>> principalFrame(
+    const Eigen::Ref<const Eigen::Matrix3Xd>& points, const std::vector<pcl::index_t>& idx) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (pcl::index_t j : idx)
+    mean += points.col(j);
+  mean /= static_cast<double>(idx.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (pcl::index_t j : idx) {
+    const Eigen::Vector3d d = points.col(j) - mean;
+    cov += d * d.transpose();
+  }
+  cov /= static_cast<double>(idx.size());
+  return {mean, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov)};
+}
+
+/// Two sheets of a neighborhood: which of its points lie on the upper one, and how far apart the
+/// sheets' means lie along their common normal against the points' RMS distance off them.
+struct SheetSplit {
+  std::vector<char> upper;
+  double separation = 0.0;
+  double rms = 0.0;
+};
+
+/// Splits the points \a idx in two sheets by alternating, from the start \a axis: split the
+/// offsets along the axis at their widest gap (at least kSheetPoints each side), then take as the
+/// axis the least principal direction of the two groups about their own means.
+SheetSplit splitSheets(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                       const std::vector<pcl::index_t>& idx, Eigen::Vector3d axis) {
+  constexpr std::size_t kSheetPoints = 2;
+  const std::size_t k = idx.size();
+  SheetSplit split;
+  split.upper.assign(k, 0);
+  std::vector<std::pair<double, std::size_t>> offset(k);
+  for (int pass = 0; pass < 3; ++pass) {
+    for (std::size_t j = 0; j < k; ++j)
+      offset[j] = {axis.dot(points.col(idx[j])), j};
+    std::sort(offset.begin(), offset.end());
+    std::size_t cut = kSheetPoints;  // the upper group starts here
+    for (std::size_t j = kSheetPoints; j + kSheetPoints <= k; ++j)
+      if (offset[j].first - offset[j - 1].first > offset[cut].first - offset[cut - 1].first)
+        cut = j;
+    for (std::size_t j = 0; j < k; ++j)
+      split.upper[offset[j].second] = j >= cut ? 1 : 0;
+    Eigen::Vector3d mean[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+    for (std::size_t j = 0; j < k; ++j)
+      mean[split.upper[j] ? 1 : 0] += points.col(idx[j]);
+    mean[0] /= static_cast<double>(cut);
+    mean[1] /= static_cast<double>(k - cut);
+    Eigen::Matrix3d within = Eigen::Matrix3d::Zero();
+    for (std::size_t j = 0; j < k; ++j) {
+      const Eigen::Vector3d d = points.col(idx[j]) - mean[split.upper[j] ? 1 : 0];
+      within += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(within);
+    axis = eigen.eigenvectors().col(0);
+    split.separation = std::abs(axis.dot(mean[1] - mean[0]));
+    split.rms = std::sqrt(std::max(0.0, eigen.eigenvalues()(0)) / static_cast<double>(k));
+  }
+  return split;
+}
+
+/// The points of the neighborhood \a idx on point \a i's own sheet when it holds two sheets of a
+/// thin wall (a wall about as thick as the spacing puts both faces in every neighborhood);
+/// otherwise \a idx itself. splitSheets starts from each principal axis of the neighborhood
+/// (\a axes; with a dozen points a neighborhood is barely wider than the wall, and its least axis
+/// may lie along it) and the split whose sheets lie furthest apart for their RMS counts. Two
+/// sheets: their means lie apart by more than kSheetSeparation times the RMS and a tenth of the
+/// neighborhood's radius \a radius. One noisy surface split in two leaves its halves 2.7 RMS
+/// apart; faces meeting at a crease share no normal, and their RMS off it is large.
+std::vector<pcl::index_t> ownSheet(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                   const std::vector<pcl::index_t>& idx, pcl::index_t i,
+                                   const Eigen::Matrix3d& axes, double radius) {
+  constexpr double kSheetSeparation = 20.0;
+  const std::size_t k = idx.size();
+  const auto at = std::find(idx.begin(), idx.end(), i);
+  if (k < 8 || at == idx.end())
+    return idx;
+  SheetSplit best;
+  for (int a = 0; a < 3; ++a) {
+    SheetSplit split = splitSheets(points, idx, axes.col(a));
+    if (best.upper.empty() || split.separation * best.rms > best.separation * split.rms)
+      best = std::move(split);
+  }
+  if (!(best.separation > kSheetSeparation * best.rms && best.separation > 0.1 * radius))
+    return idx;
+  const char own = best.upper[static_cast<std::size_t>(at - idx.begin())];
+  std::vector<pcl::index_t> sheet;
+  for (std::size_t j = 0; j < k; ++j)
+    if (best.upper[j] == own)
+      sheet.push_back(idx[j]);
+  return sheet;
+}
+
+/// \a layered: the cloud's depth is recorded on levels (detectQuantizedAxis), whose layers in a
+/// neighborhood are part of its spread, not sheets of a thin wall.
+DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neighborhoods& hoods,
+                    bool layered) {
   std::vector<double> variance, spacing;
   const std::size_t n = hoods.size();
   const std::size_t stride = std::max<std::size_t>(1, n / 20000);  // a sample is enough
@@ -153,28 +255,31 @@ DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neig
     if (v.size() < 5)
       continue;
     spacing.push_back(std::sqrt(static_cast<double>(v.sqr_distances[1])));
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (pcl::index_t j : v)
-      mean += points.col(j);
-    mean /= static_cast<double>(v.size());
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (pcl::index_t j : v) {
-      const Eigen::Vector3d d = points.col(j) - mean;
-      cov += d * d.transpose();
+    std::vector<pcl::index_t> idx(v.begin(), v.end());
+    auto [mean, eigen] = principalFrame(points, idx);
+    if (!layered) {
+      std::vector<pcl::index_t> sheet =
+          ownSheet(points, idx, static_cast<pcl::index_t>(i), eigen.eigenvectors(),
+                   std::sqrt(static_cast<double>(v.sqr_distances[v.size() - 1])));
+      if (sheet.size() < idx.size()) {
+        if (sheet.size() < 5)
+          continue;
+        idx = std::move(sheet);
+        std::tie(mean, eigen) = principalFrame(points, idx);
+      }
     }
-    cov /= static_cast<double>(v.size());
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(cov);
-    const double k = static_cast<double>(v.size());
+    const double k = static_cast<double>(idx.size());
     // The noise is what a smooth surface does not explain. With k ≥ 10 points the surface is the
     // local quadric height field (6 parameters: curvature is not noise — on sparse CAD parts the
     // plane's residual λ₀ is the sagitta of the curved faces, not noise); with fewer, the plane
     // (3). With Gaussian noise σ the residual sum of squares is σ² χ²_ν, ν = k − parameters. Each
     // neighborhood's value is scaled by the lower quartile of χ²_ν / ν, so that the lower
     // quartile over all neighborhoods estimates σ²: robust to the half of them that straddle
-    // edges or thin walls (the median was not: a thin sheet put both faces in most of them).
+    // edges (the median was not). A thin wall puts both faces in all of them: the point's own
+    // sheet is fitted (ownSheet).
     double rss = 0.0, nu = 0.0;
-    if (v.size() >= 10) {
-      rss = quadricResidual(points, v, mean, eigen.eigenvectors());
+    if (idx.size() >= 10) {
+      rss = quadricResidual(points, idx, mean, eigen.eigenvectors());
       nu = k - 6.0;
     } else {
       rss = std::max(0.0, eigen.eigenvalues()(0)) * k;
@@ -262,6 +367,40 @@ void estimateOwnNormals(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
   }
 }
 
+/// The points of \a candidates on the seed's own sheet of a thin wall: ordered by their offset
+/// along the seed's \a normal, the run around the seed that no gap wider than \a gap interrupts.
+/// Empty when no such gap divides the candidates (one surface, or faces meeting at a crease:
+/// their offsets run on without a gap). A wall about as thick as the spacing puts both of its
+/// sheets in every neighborhood; the normal is still the sheets' (they are parallel), but no
+/// primitive fits both.
+std::vector<int> seedSheet(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                           const Eigen::Vector3d& normal, int seed,
+                           const std::vector<int>& candidates, double gap) {
+  std::vector<std::pair<double, int>> offset;  // (offset, index), the seed at 0
+  offset.reserve(candidates.size() + 1);
+  offset.emplace_back(0.0, seed);
+  for (int j : candidates)
+    if (j != seed)
+      offset.emplace_back(normal.dot(points.col(j) - points.col(seed)), j);
+  std::sort(offset.begin(), offset.end());
+  const auto at = static_cast<std::size_t>(
+      std::find_if(offset.begin(), offset.end(), [&](const auto& o) { return o.second == seed; }) -
+      offset.begin());
+  std::size_t lo = at;
+  std::size_t hi = at;
+  while (lo > 0 && offset[lo].first - offset[lo - 1].first <= gap)
+    --lo;
+  while (hi + 1 < offset.size() && offset[hi + 1].first - offset[hi].first <= gap)
+    ++hi;
+  if (lo == 0 && hi + 1 == offset.size())
+    return {};
+  std::vector<int> sheet;
+  for (std::size_t k = lo; k <= hi; ++k)
+    sheet.push_back(offset[k].second);
+  std::sort(sheet.begin(), sheet.end());
+  return sheet;
+}
+
 /// The simplest adequate primitive of the points \a set with the normals \a own (an evenly
 /// strided RegionGrower::kTypeSubset of them decide, as in RegionGrower::fitBest).
 FitResult fitSet(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Eigen::Matrix3Xd& own,
@@ -305,7 +444,7 @@ void SegmentationKernel::estimateScale() {
   // from the noise and spacing.
   result_.lattice = detectQuantizedAxis(points_);
   result_.step_factor = result_.lattice.detected() ? kStepFactor : 0.0;
-  const DataScale scale = dataScale(points_, hoods_);
+  const DataScale scale = dataScale(points_, hoods_, result_.lattice.detected());
   // Distances closer than the floor of noise-free data (a twentieth of the spacing) cannot tell
   // two primitives apart: see shareEdges.
   edge_margin_ = kSpacingFactor * scale.spacing;
@@ -445,22 +584,39 @@ void SegmentationKernel::growFreeSeeds() {
       continue;  // a point at the crease of a grown segment, not a face of its own
     // A quick look with the closed forms first (outliers fail it by far), then the refined fits.
     const double seed_tolerance = grower.tolerance(static_cast<int>(us));
-    const FitResult quick = grower.fitBest(members, false);
-    const FitResult start = quick.ok() && quick.rms_distance > seed_tolerance &&
-                                    quick.rms_distance <= 3.0 * seed_tolerance
-                                ? grower.fitBest(members)
-                                : quick;
-    // The fit must also hold three points per parameter among the free 2-ring (the seed's free
-    // neighbors and theirs): a torus fits any dozen outliers, but not the points around them.
+    auto fitSeed = [&](const std::vector<int>& set) {
+      const FitResult quick = grower.fitBest(set, false);
+      return quick.ok() && quick.rms_distance > seed_tolerance &&
+                     quick.rms_distance <= 3.0 * seed_tolerance
+                 ? grower.fitBest(set)
+                 : quick;
+    };
+    FitResult start = fitSeed(members);
+    // The free 2-ring: the seed's free neighbors and theirs.
+    std::vector<int> ring2;
+    for (int m : members)
+      for (pcl::index_t j : hoods_[static_cast<std::size_t>(m)])
+        if (result_.labels[static_cast<std::size_t>(j)] < 0)
+          ring2.push_back(j);
+    std::sort(ring2.begin(), ring2.end());
+    ring2.erase(std::unique(ring2.begin(), ring2.end()), ring2.end());
+    if (!(start.ok() && start.rms_distance <= seed_tolerance)) {
+      // A thin wall: the seed's sheet of the 2-ring, apart from the other sheet by a gap no noise
+      // opens (kSheetGap tolerances), is the seed's neighborhood.
+      std::vector<int> sheet = seedSheet(points_, normals_.col(static_cast<Eigen::Index>(us)),
+                                         static_cast<int>(us), ring2, kSheetGap * seed_tolerance);
+      if (sheet.size() >= kSmallestPatch) {
+        FitResult on_sheet = fitSeed(sheet);
+        if (on_sheet.ok() && on_sheet.rms_distance <= seed_tolerance) {
+          start = std::move(on_sheet);
+          members = std::move(sheet);
+        }
+      }
+    }
+    // The fit must also hold three points per parameter among the free 2-ring: a torus fits any
+    // dozen outliers, but not the points around them.
     bool holds = start.ok() && start.rms_distance <= seed_tolerance;
     if (holds) {
-      std::vector<int> ring2;
-      for (int m : members)
-        for (pcl::index_t j : hoods_[static_cast<std::size_t>(m)])
-          if (result_.labels[static_cast<std::size_t>(j)] < 0)
-            ring2.push_back(j);
-      std::sort(ring2.begin(), ring2.end());
-      ring2.erase(std::unique(ring2.begin(), ring2.end()), ring2.end());
       std::size_t held = 0;
       for (int j : ring2)
         held += grower.accepts(j, start.refined) ? 1 : 0;

@@ -2,13 +2,15 @@
 /// \file The segmentation kernel as named phases, apart from its PCL front end
 /// (SlippageSegmentation, segmentation.h). segmentBySlippage runs them in this order:
 ///
-/// 1. estimateScale — noise σ̂, spacing, a quantized depth axis → each point's distance tolerance;
+/// 1. estimateScale — noise σ̂ (on each point's own sheet where a thin wall puts both faces in its
+///    neighborhood), spacing, a quantized depth axis → each point's distance tolerance;
 /// 2. growSlippageSeeds — seeding where the neighbors agree on the local slippage type, growth
 ///    bounded by the region's own fit, the type re-chosen on the grown region (selection);
 /// 3. growFreeSeeds — a second seeding round from the points still free (small faces whose
 ///    neighborhoods all straddle an edge), with the simplest adequate type of the seed's neighbors;
 ///    a seed's free neighbors must be sampled like the regions around them (isScattered: not
-///    outliers scattered through the volume);
+///    outliers scattered through the volume); on a wall about as thick as the spacing, the seed's
+///    own sheet of its free 2-ring is its neighborhood;
 /// 4. mergeRegions — adjacent regions whose union one primitive fits about as well;
 /// 5. reviseTypes — a region's type re-chosen on the points of its neighbors it contests (the
 ///    band of a tangent fillet that read as a plane);
