@@ -118,7 +118,8 @@ class SegmentationStage : public Stage {
     }
     context.report << "segmentation: " << result.segments.size() << " segments, " << assigned << "/"
                    << data.size() << " points assigned (distance " << result.distance << ", "
-                   << result.merges << " merges, " << result.absorbed << " fragments absorbed)\n";
+                   << result.merges << " merges, " << result.absorbed << " fragments absorbed, "
+                   << result.fillets << " fillets)\n";
     if (result.lattice.detected())
       context.report << "segmentation: coordinate "
                      << "xyz"[result.lattice.axis] << " is recorded on levels up to "

@@ -3,6 +3,7 @@
 #include "slipfit/core/exceptions.h"
 #include "slipfit/fitting/model_selection.h"
 #include "slipfit/neighborhoods/depth_quantization.h"
+#include "slipfit/segmentation/crease_fillet.h"
 
 #include <omp.h>
 #include <Eigen/Eigenvalues>
@@ -65,6 +66,10 @@ constexpr double kScattered = 2.0;
 // normal divides two sheets of a thin wall. The tolerance is 3 σ̂ (plus a twentieth of the
 // spacing): a gap of 12 σ̂ between neighbouring offsets of one noisy surface does not occur.
 constexpr double kSheetGap = 4.0;
+// recoverFillets: the parameters a fillet adds (a cylinder's five) in the BIC, and the most points
+// its radius is chosen on.
+constexpr double kFilletParameters = 5.0;
+constexpr std::size_t kFilletSample = 4000;
 
 double quantile(std::vector<double> v, double q) {
   if (v.empty())
@@ -866,6 +871,130 @@ void SegmentationKernel::reviseTypes() {
   }
 }
 
+void SegmentationKernel::recoverFillets() {
+  // A fillet of radius r between two planes lies within ε of them except its middle rows, up to
+  // r (1 − sin(opening / 2)) off both: at r ≈ 20 σ the planes take it all as they grow (THEORY §6
+  // step 6c). For each pair of plane regions that touch (or meet across one free point) at a
+  // crease, the cross-section's fillet radius is fitted on the points near the crease, and the
+  // fillet is kept when its gain over the sharp crease (in squared σ) beats its parameters' cost
+  // by the Bayesian information criterion and its arc holds min_points.
+  RegionGrower& grower = *grower_;
+  auto planeOf = [&](std::size_t r) -> const Plane* {
+    return alive_[r] && regions_[r].size() >= result_.min_points
+               ? std::get_if<Plane>(&fits_[r].refined)
+               : nullptr;
+  };
+  std::set<std::pair<std::size_t, std::size_t>> pairs;
+  for (std::size_t r = 0; r < regions_.size(); ++r) {
+    if (!planeOf(r))
+      continue;
+    auto note = [&](int other) {
+      if (other >= 0 && static_cast<std::size_t>(other) > r &&
+          planeOf(static_cast<std::size_t>(other)))
+        pairs.emplace(r, static_cast<std::size_t>(other));
+    };
+    for (int i : regions_[r])
+      for (pcl::index_t j : hoods_[static_cast<std::size_t>(i)]) {
+        const int lj = result_.labels[static_cast<std::size_t>(j)];
+        if (lj >= 0) {
+          note(lj);
+          continue;
+        }
+        for (pcl::index_t k : hoods_[static_cast<std::size_t>(j)])
+          note(result_.labels[static_cast<std::size_t>(k)]);
+      }
+  }
+  const double crease_cos = std::cos(result_.max_angle);
+  for (const auto& [a, b] : pairs) {
+    const Plane* pa = planeOf(a);
+    const Plane* pb = planeOf(b);
+    if (!pa || !pb || std::abs(pa->normal.dot(pb->normal)) > crease_cos)
+      continue;
+    const std::optional<CreaseSection> section =
+        creaseSection(*pa, *pb, points_(Eigen::all, regions_[a]), points_(Eigen::all, regions_[b]));
+    if (!section)
+      continue;
+    // The largest radius puts the tangent points halfway across the narrower plane; the smallest
+    // is twice the tolerance (a fillet within it is an edge).
+    auto reach = [&](const std::vector<int>& members, const Eigen::Vector3d& u) {
+      double most = 0.0;
+      for (int i : members)
+        most = std::max(most, u.dot(points_.col(i) - section->origin));
+      return most;
+    };
+    const double half = 0.5 * section->opening;
+    const double largest =
+        0.5 * std::min(reach(regions_[a], section->ua), reach(regions_[b], section->ub)) *
+        std::tan(half);
+    const double smallest = 2.0 * std::max(grower.smallestTolerance(regions_[a]),
+                                           grower.smallestTolerance(regions_[b]));
+    if (!(largest > smallest))
+      continue;
+    // The band: members and their free neighbours no further from the crease than the largest
+    // fillet's tangent points, and a tolerance.
+    const double band = largest / std::tan(half);
+    std::vector<int> near;
+    auto inBand = [&](int i) {
+      Eigen::Vector3d q = points_.col(i) - section->origin;
+      q -= section->along.dot(q) * section->along;
+      return q.norm() <= band + 3.0 * grower.tolerance(i);
+    };
+    for (std::size_t r : {a, b})
+      for (int i : regions_[r])
+        if (inBand(i)) {
+          near.push_back(i);
+          for (pcl::index_t j : hoods_[static_cast<std::size_t>(i)])
+            if (result_.labels[static_cast<std::size_t>(j)] < 0 && inBand(j))
+              near.push_back(j);
+        }
+    std::sort(near.begin(), near.end());
+    near.erase(std::unique(near.begin(), near.end()), near.end());
+    // The radius is chosen on at most kFilletSample of them (evenly strided).
+    const std::size_t stride = 1 + near.size() / kFilletSample;
+    std::vector<int> sample;
+    for (std::size_t k = 0; k < near.size(); k += stride)
+      sample.push_back(near[k]);
+    Eigen::VectorXd sigma(static_cast<Eigen::Index>(sample.size()));
+    for (std::size_t k = 0; k < sample.size(); ++k)
+      sigma(static_cast<Eigen::Index>(k)) = grower.tolerance(sample[k]) / kNoiseFactor;
+    const FilletChoice choice =
+        chooseFilletRadius(*section, points_(Eigen::all, sample), sigma, smallest, largest);
+    const double n = static_cast<double>(sample.size());
+    if (!(choice.radius > 0.0) ||
+        choice.sharp_cost - choice.cost <= kFilletParameters * std::log(n) ||
+        choice.on_arc * stride < result_.min_points)
+      continue;
+    std::vector<int> arc;
+    for (int i : near) {
+      double d = 0.0;
+      if (filletDistance(*section, choice.radius, points_.col(i), &d) == FilletPiece::arc &&
+          d <= grower.tolerance(i))
+        arc.push_back(i);
+    }
+    if (arc.size() < result_.min_points)
+      continue;
+    FitResult fit = grower.fit(PrimitiveType::cylinder, arc);
+    const auto* cylinder = std::get_if<Cylinder>(&fit.refined);
+    if (!fit.ok() || !cylinder || std::abs(cylinder->axis.dot(section->along)) < crease_cos ||
+        cylinder->radius > 2.0 * choice.radius || cylinder->radius < 0.5 * choice.radius)
+      continue;
+    ++result_.fillets;
+    addRegion(arc, std::move(fit), SlippageType::cylinder);
+    for (std::size_t r : {a, b}) {
+      const auto label = static_cast<std::int32_t>(r);
+      auto& members = regions_[r];
+      members.erase(std::remove_if(members.begin(), members.end(),
+                                   [&](int i) {
+                                     return result_.labels[static_cast<std::size_t>(i)] != label;
+                                   }),
+                    members.end());
+      FitResult refit = grower.fit(PrimitiveType::plane, members);
+      if (refit.ok())
+        fits_[r] = std::move(refit);
+    }
+  }
+}
+
 double SegmentationKernel::normalAngle(int i, const Primitive& primitive) const {
   const double c = std::abs(surfaceNormal(points_.col(i), primitive).dot(normals_.col(i)));
   return std::acos(std::min(1.0, c));
@@ -1423,6 +1552,8 @@ void SegmentationKernel::run(Phase phase) {
       return mergeRegions();
     case Phase::revise_types:
       return reviseTypes();
+    case Phase::recover_fillets:
+      return recoverFillets();
     case Phase::refine_boundaries:
       return refineBoundaries();
     case Phase::join_creases:

@@ -106,6 +106,7 @@ struct SegmentationResult {
   /// surface, absorbFragments).
   std::size_t absorbed = 0;
   std::size_t revised = 0;  ///< regions whose type the contested points changed
+  std::size_t fillets = 0;  ///< fillets found at creases of two planes (recoverFillets)
   /// Regions dropped because their points fill the tolerance slab like random points (RMS
   /// distance above 0.45 ε), not a surface: a cloud of noise gives no segment.
   std::size_t volumes = 0;

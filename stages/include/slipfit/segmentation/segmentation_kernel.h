@@ -14,6 +14,10 @@
 /// 4. mergeRegions — adjacent regions whose union one primitive fits about as well;
 /// 5. reviseTypes — a region's type re-chosen on the points of its neighbors it contests (the
 ///    band of a tangent fillet that read as a plane);
+/// 5b. recoverFillets — two planes meeting at a crease whose points a fillet between them explains
+///    better (its radius fitted on the cross-section, the gain weighed against its parameters)
+///    give the fillet's points to a cylinder: a fillet of a few tens of σ lies mostly within the
+///    planes' tolerance, and they take it whole as they grow;
 /// 6. refineBoundaries — points that a neighboring segment's primitive explains better move;
 /// 7. joinCreases — free points at creases join the nearest adjacent primitive within tolerance;
 /// 8. recoverSmallFaces — a patch of free points that no adjacent primitive explains is a face too
@@ -60,6 +64,7 @@ class SegmentationKernel {
     grow_free_seeds,
     merge_regions,
     revise_types,
+    recover_fillets,
     refine_boundaries,
     join_creases,
     recover_small_faces,
@@ -77,6 +82,7 @@ class SegmentationKernel {
   void growFreeSeeds();
   void mergeRegions();
   void reviseTypes();
+  void recoverFillets();
   void refineBoundaries();
   void joinCreases();
   void recoverSmallFaces();
