@@ -49,10 +49,6 @@ bool allFinite(const YAML::Node& node) {
 }
 
 TEST_P(RealScanCli, DemoRunsWithoutNanAndItsLargestPlaneIsPclsRansacPlane) {
-#ifdef SLIPFIT_TESTS_SANITIZED
-  GTEST_SKIP() << "two whole-scan runs of the demo (300k points) are left to the Release suite; "
-                  "the sanitizer job runs the same scans through RealScan.* and the catalogue";
-#endif
   const Scan& scan = GetParam();
   const std::string path = std::string(kSharedDataDir) + "/pcl/" + scan.file;
   if (!std::filesystem::exists(path))
@@ -130,9 +126,6 @@ INSTANTIATE_TEST_SUITE_P(Scans, RealScanCli,
 // the scan is the milk carton's table, the objects on it the outliers (a fifth of the points).
 // Before the flat-limit rule the robust auto fit chose a sphere of radius 76 m.
 TEST(RealScanCli, FitPrimitiveOnATableScanReturnsPclsPlane) {
-#ifdef SLIPFIT_TESTS_SANITIZED
-  GTEST_SKIP() << "a whole-scan RANSAC fit is left to the Release suite";
-#endif
   const std::string path = std::string(kSharedDataDir) + "/pcl/milk_cartoon_all_small_clorox.pcd";
   if (!std::filesystem::exists(path))
     GTEST_SKIP() << path << " is absent: the plane-scan check needs ../shared/data/pcl";
@@ -170,9 +163,6 @@ TEST(RealScanCli, FitPrimitiveOnATableScanReturnsPclsPlane) {
 // inliers; at 1 cm or less PCL's fit keeps a third of the points or fewer and its radius moves
 // by 5 %) and its axis within 2° of the table's normal (measured 0.20°, PCL's 0.41°).
 TEST(RealScanCli, CroppedTabletopGivesTheBottleAsOneCylinderAgreeingWithPcl) {
-#ifdef SLIPFIT_TESTS_SANITIZED
-  GTEST_SKIP() << "a whole-scan run of the demo is left to the Release suite";
-#endif
   const std::string path = std::string(kSharedDataDir) + "/pcl/milk_cartoon_all_small_clorox.pcd";
   if (!std::filesystem::exists(path))
     GTEST_SKIP() << path << " is absent: the tabletop check needs ../shared/data/pcl";

@@ -90,23 +90,19 @@ int tilesIn(const std::string& workdir) {
 // ten seeds, seed 35), each point once, and every true shape that crosses a tile border in one
 // segment: no second segment, nor the unassigned points, holds 5 % of it.
 TEST(TiledRun, MatchesTheUntiledRunOnAGeneratedScene) {
-#ifdef SLIPFIT_TESTS_SANITIZED
-  const int points = 200000, shapes = 30;  // the same checks, on a scene the sanitizers can run
-#else
   const int points = 1000000, shapes = 75;
-#endif
   const std::string cloud = scene("tiled_scene", shapes, points, 41);
   const std::string untiled = scratchDir("tiled_untiled"), tiled = scratchDir("tiled_tiled");
   CliResult r = runSlipfit("run configs/demo.yaml --set input.path=" + cloud +
                            " --set output.dir=" + untiled);
   ASSERT_EQ(r.code, 0) << r.err;
   // The untiled run's analysis leaf ("subsample: ... (voxel 0.0157183, ..."), or every point
-  // when the cloud is within the budget (the sanitizers' scene).
+  // when the cloud is within the budget.
   const auto voxel = r.out.find("(voxel ");
   const bool subsampled = voxel != std::string::npos;
   const double untiled_leaf = subsampled ? std::stod(r.out.substr(voxel + 7)) : 0.0;
   r = runSlipfit("run configs/demo.yaml --set input.path=" + cloud + " --set output.dir=" + tiled +
-                 " --set tiling.size=" + std::string(shapes == 75 ? "15" : "8"));
+                 " --set tiling.size=15");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("joins across tiles"));
   // Every tile is analysed on the untiled run's voxel grid: its corner and its leaf.
@@ -135,7 +131,7 @@ TEST(TiledRun, MatchesTheUntiledRunOnAGeneratedScene) {
   EXPECT_NEAR(iou_b, iou_a, 0.0067);  // the largest difference over ten seeds (docs/TILING.md)
 
   // Shapes across tile borders (at least 1 % of their points on each side) are one segment.
-  const double size = shapes == 75 ? 15.0 : 8.0;
+  const double size = 15.0;  // tiling.size above
   std::map<int, std::map<std::pair<int, int>, int>> sides;
   std::map<int, std::map<int, int>> labels;
   const auto& truth = b.ints.at("truth_label");
@@ -205,7 +201,7 @@ TEST(TiledRun, MatchesTheUntiledRunOnAGeneratedScene) {
     const double ratio = y["rms_distance"].as<double>() / x["rms_distance"].as<double>();
     worst = std::max(worst, std::max(ratio, 1.0 / ratio));
     // The RMS of n points estimates the noise with a relative error of about 1/√(2n): within
-    // three of those plus 1 % (a 496-point cone of the sanitizers' scene: 2.8 %).
+    // three of those plus 1 %.
     const double n = y["points"].as<double>();
     EXPECT_NEAR(ratio, 1.0, 3.0 / std::sqrt(2.0 * n) + 0.01) << "true shape " << t;
     ++compared;
