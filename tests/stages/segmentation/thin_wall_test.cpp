@@ -121,22 +121,26 @@ TEST(ThinWall, APlateAsThickAsItsSpacingIsTwoPlanes) {
 // 0.925–0.959 in one cone segment at random (seeds 1–3; 0.06–0.48 without the seed's sheet, none
 // without the noise on each point's own sheet), 0.972 / 0.974 meshed (0.81 / 0.83 without the
 // seed's sheet).
+void expectTwoCones(bool meshed, unsigned seed, double least) {
+  const Shell s = conicalShell(meshed ? 0.28 : 0.27, meshed, seed);
+  const testing::SegmentedCloud out = testing::segmentCloud(testing::pointsCloud(s.points), 12);
+  const std::array<double, 2> found = facesFound(s, out.result, PrimitiveType::cone);
+  const char* kind = meshed ? "meshed" : "random";
+  std::cout << kind << " seed " << seed << ": noise " << out.result.noise << ", distance "
+            << out.result.distance << ", " << out.result.segments.size() << " segments, faces "
+            << found[0] << " / " << found[1] << "\n";
+  EXPECT_GE(found[0], least) << kind << " seed " << seed;
+  EXPECT_GE(found[1], least) << kind << " seed " << seed;
+}
+
 TEST(ThinWall, AConicalShellThickerThanItsSpacingIsTwoCones) {
-  for (bool meshed : {false, true})
-    for (unsigned seed : {1u, 2u, 3u}) {
-      const Shell s = conicalShell(meshed ? 0.28 : 0.27, meshed, seed);
-      const testing::SegmentedCloud out = testing::segmentCloud(testing::pointsCloud(s.points), 12);
-      const std::array<double, 2> found = facesFound(s, out.result, PrimitiveType::cone);
-      std::cout << (meshed ? "meshed" : "random") << " seed " << seed << ": noise "
-                << out.result.noise << ", distance " << out.result.distance << ", "
-                << out.result.segments.size() << " segments, faces " << found[0] << " / "
-                << found[1] << "\n";
-      const double least = meshed ? 0.971 : 0.925;
-      EXPECT_GE(found[0], least) << (meshed ? "meshed" : "random") << " seed " << seed;
-      EXPECT_GE(found[1], least) << (meshed ? "meshed" : "random") << " seed " << seed;
-      if (meshed)
-        break;  // no randomness
-    }
+  for (unsigned seed : {1u, 2u, 3u})
+    expectTwoCones(false, seed, 0.925);
+}
+
+// The meshed shell has no randomness: one run (the one the sanitizer job makes of this case).
+TEST(ThinWall, AMeshedConicalShellIsTwoCones) {
+  expectTwoCones(true, 1u, 0.971);
 }
 
 }  // namespace
