@@ -1,4 +1,5 @@
 #include "slipfit/pipeline/tiled_run.h"
+#include "slipfit/core/threads.h"
 
 #include "slipfit/filters/subsampling.h"
 #include "slipfit/pipeline/cloud_stream.h"
@@ -325,7 +326,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   std::size_t to_run = 0;
   for (const TileInfo& tile : manifest.tiles)
     to_run += tileDone(runs_dir + "/" + tile.name()) ? 0 : 1;
-  const int threads = config.settings.threads > 0 ? config.settings.threads : omp_get_num_procs();
+  const int threads = resolveThreads(config.settings.threads);
   const int workers =
       static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(threads, to_run)));
   std::vector<std::string> tile_overrides = overrides;

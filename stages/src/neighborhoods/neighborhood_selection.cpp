@@ -1,4 +1,5 @@
 #include "slipfit/neighborhoods/neighborhood_selection.h"
+#include "slipfit/core/threads.h"
 
 #include "slipfit/neighborhoods/impl/neighborhood_selection.hpp"
 
@@ -25,8 +26,7 @@ void NeighborhoodParameters::validate() const {
     reject("radius", "unset", "'required in radius and hybrid modes'");
   if (k_max < k_min)
     reject("k_max", std::to_string(k_max), "'k_min <= k_max'");
-  if (threads < 0)
-    reject("threads", std::to_string(threads), "'threads >= 0'");
+  validateThreads(threads, "neighborhood parameters");
 }
 
 template class NeighborhoodSelection<pcl::PointXYZ>;

@@ -1,4 +1,5 @@
 #include "slipfit/segmentation/segmentation.h"
+#include "slipfit/core/threads.h"
 
 #include "slipfit/core/exceptions.h"
 #include "slipfit/segmentation/segmentation_kernel.h"
@@ -9,9 +10,7 @@ namespace slipfit {
 
 void SegmentationParameters::validate() const {
   validateDeclared(*this, "segmentation");
-  if (threads < 0)
-    throw InvalidParameterError("segmentation: threads must be 0 (all cores) or positive, got " +
-                                std::to_string(threads));
+  validateThreads(threads, "segmentation");
 }
 
 SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,

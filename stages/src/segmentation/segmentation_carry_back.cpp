@@ -1,4 +1,5 @@
 #include "slipfit/segmentation/segmentation_carry_back.h"
+#include "slipfit/core/threads.h"
 
 #include "slipfit/core/exceptions.h"
 #include "slipfit/core/median.h"
@@ -24,7 +25,7 @@ void carrySegmentationBack(
     if (r >= static_cast<std::int32_t>(result.labels.size()))
       throw DegenerateInputError("carry-back: a representative is not a sample point");
   const std::vector<std::int32_t> sample_labels = std::move(result.labels);
-  const int workers = threads > 0 ? threads : omp_get_num_procs();
+  const int workers = resolveThreads(threads);
   // Per point: the nearest of the distinct segments around its representative (each distance
   // computed once) within \a limit, and that distance.
   const auto nearest = [&](Eigen::Index i, double limit, double& best) {

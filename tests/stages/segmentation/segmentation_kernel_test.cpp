@@ -81,7 +81,7 @@ TEST(SegmentationKernel, RegionsGrownInRandomPointsAreDroppedAsVolumes) {
   kernel.runPhases(Phase::estimate_scale, Phase::recover_small_faces, {Phase::revise_types});
   const std::size_t grown = live(kernel);
   EXPECT_GT(grown, 0u) << "random points always lie near some small primitive";
-  kernel.dropNonSurfaces();
+  kernel.run(Phase::drop_non_surfaces);
   EXPECT_GE(static_cast<double>(kernel.progress().volumes), 0.9 * static_cast<double>(grown));
   EXPECT_EQ(live(kernel) + kernel.progress().volumes, grown);
   const SegmentationResult r = kernel.finalize();
@@ -115,7 +115,7 @@ TEST(SegmentationKernel, MergeJoinsTheBandsOfACone) {
   kernel.runPhases(Phase::estimate_scale, Phase::grow_free_seeds);
   // Measured (seed 3): 37 bands before the merge, 1 region after it.
   EXPECT_GE(live(kernel), 2u);
-  kernel.mergeRegions();
+  kernel.run(Phase::merge_regions);
   EXPECT_EQ(live(kernel), 1u);
   kernel.runPhases(Phase::refine_boundaries, Phase::drop_non_surfaces,
                    {Phase::absorb_fragments, Phase::merge_settled_regions});
@@ -139,7 +139,7 @@ TEST(SegmentationKernel, NoiseFreeCurvedSurfaceHasNoNoise) {
   const auto cloud = sampledCloud(sp);
   const Inputs in = prepare(cloud, 12);
   SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
-  kernel.estimateScale();
+  kernel.run(Phase::estimate_scale);
   std::cout << "noise-free cylinder: sigma-hat " << kernel.progress().noise << "\n";
   // Measured 2.6e-6 (the quartic term of the cylinder's height field), against a spacing of
   // about 0.07.
@@ -234,7 +234,7 @@ TEST(SegmentationKernel, ReviseTypesTurnsTheBandOfATangentFilletIntoACylinder) {
       SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
       kernel.runPhases(Phase::estimate_scale, Phase::merge_regions);
       if (revise)
-        kernel.reviseTypes();
+        kernel.run(Phase::revise_types);
       kernel.runPhases(Phase::refine_boundaries, Phase::drop_non_surfaces,
                        {Phase::absorb_fragments, Phase::merge_settled_regions});
       const SegmentationResult r = kernel.finalize();
@@ -355,8 +355,8 @@ TEST(SegmentationKernel, RecoverSmallFacesFindsTheWallsOfSmallHoles) {
       SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
       kernel.runPhases(Phase::estimate_scale, Phase::join_creases);
       if (recover)
-        kernel.recoverSmallFaces();
-      kernel.dropNonSurfaces();
+        kernel.run(Phase::recover_small_faces);
+      kernel.run(Phase::drop_non_surfaces);
       const SegmentationResult r = kernel.finalize();
       int found = 0;
       for (int h = 0; h < 4; ++h) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "slipfit/core/exceptions.h"
+#include "slipfit/core/threads.h"
 #include "slipfit/neighborhoods/depth_quantization.h"
 #include "slipfit/neighborhoods/eigen_entropy.h"
 #include "slipfit/neighborhoods/neighborhood_selection.h"
@@ -147,12 +148,11 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
   std::vector<pcl::Indices> chunk_indices(std::min(kChunk, n));
   std::vector<std::vector<float>> chunk_dists(std::min(kChunk, n));
   std::size_t queries = 0, skipped = 0, widened = 0;
-  const int threads = par.threads;
+  const int threads = resolveThreads(par.threads);
 
   for (std::size_t begin = 0; begin < n; begin += kChunk) {
     const std::size_t end = std::min(n, begin + kChunk);
-#pragma omp parallel num_threads(threads > 0 ? threads : omp_get_num_procs()) \
-    reduction(+ : queries, skipped, widened)
+#pragma omp parallel num_threads(threads) reduction(+ : queries, skipped, widened)
     {
       Eigen::Matrix3Xf local;
 #pragma omp for schedule(dynamic, 256)

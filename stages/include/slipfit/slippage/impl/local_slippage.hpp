@@ -1,6 +1,7 @@
 #pragma once
 
 #include "slipfit/core/exceptions.h"
+#include "slipfit/core/threads.h"
 #include "slipfit/slippage/local_slippage.h"
 
 #include <omp.h>
@@ -29,7 +30,8 @@ void LocalSlippage<PointT>::compute(pcl::PointCloud<PointSlippage>& output) {
   output.height = 1;
   output.is_dense = true;
   const SlippageOptions options = options_;
-#pragma omp parallel num_threads(threads_ > 0 ? threads_ : omp_get_num_procs())
+  const int workers = resolveThreads(threads_);
+#pragma omp parallel num_threads(workers)
   {
     Eigen::Matrix3Xd x, n;
     Eigen::VectorXd w;

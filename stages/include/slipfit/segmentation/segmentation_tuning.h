@@ -1,0 +1,97 @@
+#pragma once
+/// \file The segmentation's tuning constants, in one place, each with the derivation or the
+/// measurement that set it. The phases that use a constant are named by their number (Phase,
+/// segmentation_phase.h; docs/THEORY.md §6 uses the same numbers). Not user options: a value here
+/// follows from the statistics of the noise or was measured on the development data; changing one
+/// changes every output, and the suite's figures must be measured again.
+
+#include <cstddef>
+
+namespace slipfit {
+
+struct SegmentationTuning {
+  // ---- 1 estimate_scale: the tolerances -------------------------------------------------------
+  /// The default tolerance is noise_factor σ̂ + spacing_factor × the median spacing: 3 σ keeps
+  /// 99.7 % of a Gaussian's points.
+  static constexpr double noise_factor = 3.0;
+  /// The floor for noise-free data (CAD: σ̂ ≈ 0), a twentieth of the spacing: it admits float
+  /// rounding and the sagitta of fits made on part of a region while it grows. Distances closer
+  /// than this cannot tell two primitives apart (the edge margin of phases 7–9 and 11).
+  static constexpr double spacing_factor = 0.05;
+  /// Steps of a quantized depth axis added to a point's tolerance: a point lies up to half a step
+  /// off its surface along that axis, and a disparity sensor's noise is about half a step too.
+  static constexpr double step_factor = 2.0;
+  /// The noise is the lower quartile over the neighborhoods' residuals (robust to the half of them
+  /// that straddle edges; the median was not), each scaled by the same quantile of χ²_ν / ν.
+  static constexpr double noise_quantile = 0.25;
+  static constexpr double noise_quantile_z = -0.6744897501960817;  ///< z-score of the quartile
+  /// The noise is estimated on at most this many neighborhoods (evenly strided): a sample is enough
+  /// for a quartile.
+  static constexpr std::size_t noise_sample = 20000;
+  /// A neighborhood holds two sheets of a thin wall when their means lie apart by more than this
+  /// many times the points' RMS off them (one noisy surface split in two leaves its halves 2.7 RMS
+  /// apart; 6 split noisy neighborhoods and failed three suite tests) and a tenth of its radius.
+  static constexpr double sheet_separation = 20.0;
+  static constexpr double sheet_radius_share = 0.1;
+
+  // ---- 2–3 seeding ----------------------------------------------------------------------------
+  /// The default smallest segment: an absolute count (a fraction of N starves the small shapes of
+  /// a large scene); small faces of CAD parts have 20–60 points.
+  static constexpr std::size_t default_min_points = 20;
+  /// A grown region's type changes only when another type's median distance is below this share
+  /// of its own (a BIC margin, or the RMS, let a wide sphere absorb the crease points of a plane).
+  static constexpr double retype_share = 0.75;
+  /// A gap this many tolerances wide between the offsets of a seed's 2-ring along its normal
+  /// divides two sheets of a thin wall. The tolerance is 3 σ̂ (plus a twentieth of the spacing): a
+  /// gap of 12 σ̂ between neighbouring offsets of one noisy surface does not occur.
+  static constexpr double sheet_gap = 4.0;
+
+  // ---- 4, 10, 11 merging ----------------------------------------------------------------------
+  /// A region this many times the size of another dominates their union's fit (4) and may absorb
+  /// it (10).
+  static constexpr std::size_t dominates = 4;
+  /// Phase 10 passes, each on the regions the one before left (a speck that touched only another
+  /// speck can join the region that absorbed it).
+  static constexpr int absorb_passes = 4;
+
+  // ---- 5–6 types and fillets ------------------------------------------------------------------
+  /// A wide region's type is revisited when a candidate's median normal angle is less than its
+  /// own primitive's over this ratio (its normals turn beyond their noise).
+  static constexpr double normal_turn_ratio = 2.0;
+  /// The parameters a fillet adds (a cylinder's five) in the BIC against the sharp crease.
+  static constexpr double fillet_parameters = 5.0;
+  /// The most points a fillet's radius is chosen on (evenly strided).
+  static constexpr std::size_t fillet_sample = 4000;
+
+  // ---- 7 refine_boundaries --------------------------------------------------------------------
+  /// A boundary moves a ring of points per pass; eight passes cross the band a plane takes off a
+  /// tangent fillet at the 1 M-point scenes' density.
+  static constexpr int boundary_passes = 8;
+  /// How much lower (in squared standard units) another primitive's cost must be for a point
+  /// within the noise of both to move: 4, a likelihood ratio of e² ≈ 7.
+  static constexpr double stay_cost = 4.0;
+  /// After two passes, a pass runs while it moves fewer than this share of the points the one
+  /// before moved (on PCL's Kinect scans the rim segments crept into the table a ring per pass).
+  static constexpr double settling = 0.5;
+  /// Two distances within this share of the point's tolerance (2σ̂ of its 3σ̂, and as much of its
+  /// depth steps) are a tie the neighborhood decides.
+  static constexpr double tie_share = 2.0 / 3.0;
+
+  // ---- 3, 9 small faces and scattered points --------------------------------------------------
+  /// The fewest free points tried as a face (a plane needs 3, and 3 per parameter must hold).
+  static constexpr std::size_t smallest_patch = 8;
+  /// The share of a small face's own points its fit must hold.
+  static constexpr double held = 0.8;
+  /// Points lying further apart than this many times the points of the regions around them are
+  /// scattered through the volume, not a surface. Points sampled at random on a surface with
+  /// density ρ are a median 0.47/√ρ from their nearest; twice that is a surface sampled a quarter
+  /// as densely as its surroundings.
+  static constexpr double scattered = 2.0;
+
+  // ---- 12 drop_non_surfaces -------------------------------------------------------------------
+  /// Between a surface's RMS distance (≈ 0.33 ε with Gaussian noise, ε = 3σ) and that of a slab
+  /// filled at random (ε/√3 ≈ 0.58 ε).
+  static constexpr double volume_ratio = 0.45;
+};
+
+}  // namespace slipfit
