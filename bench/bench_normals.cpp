@@ -43,7 +43,7 @@ void BM_SlipfitNormalEstimation(benchmark::State& state) {
   p.k = kK;
   p.threads = kThreads;
   for (auto _ : state) {
-    slipfit::NormalEstimation<pcl::PointNormal, pcl::Normal> ne;
+    slipfit::OrientedNormalEstimation<pcl::PointNormal, pcl::Normal> ne;
     ne.setParameters(p);
     ne.setInputCloud(scene());
     pcl::PointCloud<pcl::Normal> out;
@@ -92,7 +92,7 @@ void BM_SlipfitNeighborhoodsThenNormals(benchmark::State& state) {
     s.setInputCloud(scene());
     auto hoods = std::make_shared<slipfit::Neighborhoods>();
     s.compute(*hoods);
-    slipfit::NormalEstimation<pcl::PointNormal, pcl::Normal> ne;
+    slipfit::OrientedNormalEstimation<pcl::PointNormal, pcl::Normal> ne;
     ne.setParameters(p);
     ne.setInputCloud(scene());
     ne.setNeighborhoods(hoods);

@@ -22,7 +22,7 @@ int main() {
   selection.setInputCloud(cloud);
   selection.compute(*hoods);
 
-  slipfit::NormalEstimation<pcl::PointXYZ, pcl::Normal> estimation;
+  slipfit::OrientedNormalEstimation<pcl::PointXYZ, pcl::Normal> estimation;
   slipfit::NormalParameters parameters;
   parameters.orientation = slipfit::NormalOrientation::consistent;
   estimation.setParameters(parameters);

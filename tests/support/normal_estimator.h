@@ -1,6 +1,6 @@
 #pragma once
-/// \file A NormalEstimation on a cloud with the given orientation and otherwise default parameters:
-/// the set-up most normal tests share.
+/// \file A OrientedNormalEstimation on a cloud with the given orientation and otherwise default
+/// parameters: the set-up most normal tests share.
 
 #include "slipfit/neighborhoods/normal_estimation.h"
 
@@ -10,9 +10,9 @@
 namespace slipfit::testing {
 
 template <typename PointOut = pcl::Normal>
-NormalEstimation<pcl::PointNormal, PointOut> normalEstimator(
+OrientedNormalEstimation<pcl::PointNormal, PointOut> normalEstimator(
     const pcl::PointCloud<pcl::PointNormal>::ConstPtr& cloud, NormalOrientation orientation) {
-  NormalEstimation<pcl::PointNormal, PointOut> estimation;
+  OrientedNormalEstimation<pcl::PointNormal, PointOut> estimation;
   NormalParameters p;
   p.orientation = orientation;
   estimation.setParameters(p);

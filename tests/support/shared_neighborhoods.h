@@ -25,7 +25,7 @@ inline std::shared_ptr<Neighborhoods> knnNeighborhoods(
 /// sign does not matter to slippage or segmentation).
 inline void estimateNormals(pcl::PointCloud<pcl::PointNormal>::Ptr cloud,
                             const std::shared_ptr<const Neighborhoods>& hoods) {
-  NormalEstimation<pcl::PointNormal, pcl::PointNormal> estimation;
+  OrientedNormalEstimation<pcl::PointNormal, pcl::PointNormal> estimation;
   estimation.setInputCloud(cloud);
   estimation.setNeighborhoods(hoods);
   pcl::PointCloud<pcl::PointNormal> estimated;

@@ -57,7 +57,7 @@ void estimatePcaNormals(const Eigen::Matrix3Xd& x, int k, Eigen::Matrix3Xd& n) {
     q.getVector3fMap() = (x.col(j) - c).cast<float>();
     cloud->push_back(q);
   }
-  NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
+  OrientedNormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
   NormalParameters np;
   np.k = k;
   np.threads = 1;

@@ -45,7 +45,7 @@ class NormalEstimationStage : public Stage {
     }
     NormalParameters p = p_;
     p.threads = context.threads;
-    NormalEstimation<pcl::PointNormal, pcl::Normal> estimation;
+    OrientedNormalEstimation<pcl::PointNormal, pcl::Normal> estimation;
     estimation.setParameters(p);
     estimation.setInputCloud(data.cloud);
     const bool shared = use_shared_ && data.neighborhoods;

@@ -1,4 +1,5 @@
 #include "slipfit/neighborhoods/normal_estimation.h"
+#include "slipfit/core/threads.h"
 
 #include "slipfit/neighborhoods/impl/normal_estimation.hpp"
 
@@ -18,15 +19,14 @@ void NormalParameters::validate() const {
   validateDeclared(*this, "normal parameters");
   if (viewpoint && !viewpoint->allFinite())
     reject("viewpoint", "non-finite", "'finite coordinates'");
-  if (threads < 0)
-    reject("threads", std::to_string(threads), "'threads >= 0'");
+  validateThreads(threads, "normal parameters");
 }
 
-template class NormalEstimation<pcl::PointXYZ, pcl::Normal>;
-template class NormalEstimation<pcl::PointXYZ, pcl::PointNormal>;
-template class NormalEstimation<pcl::PointXYZRGB, pcl::Normal>;
-template class NormalEstimation<pcl::PointNormal, pcl::Normal>;
-template class NormalEstimation<pcl::PointNormal, pcl::PointNormal>;
-template class NormalEstimation<pcl::PointXYZRGBNormal, pcl::Normal>;
+template class OrientedNormalEstimation<pcl::PointXYZ, pcl::Normal>;
+template class OrientedNormalEstimation<pcl::PointXYZ, pcl::PointNormal>;
+template class OrientedNormalEstimation<pcl::PointXYZRGB, pcl::Normal>;
+template class OrientedNormalEstimation<pcl::PointNormal, pcl::Normal>;
+template class OrientedNormalEstimation<pcl::PointNormal, pcl::PointNormal>;
+template class OrientedNormalEstimation<pcl::PointXYZRGBNormal, pcl::Normal>;
 
 }  // namespace slipfit

@@ -191,7 +191,7 @@ TEST(ParameterDeclarations, PclStyleClassesCheckTheirParametersWhenTheyRun) {
 
   NormalParameters normal;
   normal.k = 1;
-  NormalEstimation<pcl::PointNormal, pcl::Normal> estimation;
+  OrientedNormalEstimation<pcl::PointNormal, pcl::Normal> estimation;
   EXPECT_NO_THROW(estimation.setParameters(normal));
   estimation.setInputCloud(cloud);
   pcl::PointCloud<pcl::Normal> normals;

@@ -128,8 +128,8 @@ TEST(PrimitiveFitting, IndicesWeightsAndErrors) {
 }
 
 // PCL's "cylinder model segmentation" tutorial: estimate normals, remove the table plane with
-// SACSegmentationFromNormals, extract the rest, find the cylinder. slipfit's NormalEstimation and
-// PrimitiveFitting take the place of PCL's, everything else is PCL.
+// SACSegmentationFromNormals, extract the rest, find the cylinder. slipfit's
+// OrientedNormalEstimation and PrimitiveFitting take the place of PCL's, everything else is PCL.
 TEST(PrimitiveFitting, PclCylinderTutorialFlowWithSlipfitClasses) {
   auto scene = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
   for (const auto& p : testing::samplePlane(20000, -1, 1, -1, 1, 0, 1))
@@ -149,7 +149,7 @@ TEST(PrimitiveFitting, PclCylinderTutorialFlowWithSlipfitClasses) {
 
   // Normals: slipfit instead of pcl::NormalEstimation.
   auto normals = std::make_shared<pcl::PointCloud<pcl::Normal>>();
-  NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
+  OrientedNormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
   NormalParameters np;
   np.k = 50;
   ne.setParameters(np);

@@ -20,7 +20,7 @@ using testing::Cloud;
 pcl::PointCloud<pcl::Normal> estimate(const Cloud::Ptr& cloud, const NormalParameters& p,
                                       std::shared_ptr<const Neighborhoods> hoods = nullptr,
                                       NormalStatistics* stats = nullptr) {
-  NormalEstimation<pcl::PointNormal, pcl::Normal> ne;
+  OrientedNormalEstimation<pcl::PointNormal, pcl::Normal> ne;
   ne.setParameters(p);
   ne.setInputCloud(cloud);
   if (hoods)
@@ -46,7 +46,7 @@ std::size_t outward(const Eigen::Matrix3Xf& n, const Eigen::Matrix3Xf& truth) {
 // Accuracy on noise-free analytic shapes, k = 16: every normal within 1 degree. The PCA normal
 // tilts by about curvature × (offset of the neighborhood centroid), so the densities are chosen to
 // keep curvature × neighborhood radius near 0.025.
-TEST(NormalEstimation, SphereWithinOneDegree) {
+TEST(OrientedNormalEstimation, SphereWithinOneDegree) {
   auto cloud =
       std::make_shared<Cloud>(testing::sampleSphere(100000, Eigen::Vector3f(3, -2, 5), 2.0f, 1));
   NormalParameters p;
@@ -55,7 +55,7 @@ TEST(NormalEstimation, SphereWithinOneDegree) {
   EXPECT_LT(testing::maxAngleDeg(estimated(out), exact(*cloud), false), 1.0);
 }
 
-TEST(NormalEstimation, CylinderWithinOneDegree) {
+TEST(OrientedNormalEstimation, CylinderWithinOneDegree) {
   auto cloud = std::make_shared<Cloud>(
       testing::sampleCylinder(100000, Eigen::Vector3f(1, 1, -3), 1.0f, 2.0f, 2));
   NormalParameters p;
@@ -66,7 +66,7 @@ TEST(NormalEstimation, CylinderWithinOneDegree) {
   EXPECT_EQ(outward(n, exact(*cloud)), 0u) << "viewpoint orientation must face the axis";
 }
 
-TEST(NormalEstimation, ConsistentOrientationIsOutwardOnClosedSurfaces) {
+TEST(OrientedNormalEstimation, ConsistentOrientationIsOutwardOnClosedSurfaces) {
   for (const bool torus : {false, true}) {
     auto cloud = std::make_shared<Cloud>(
         torus ? testing::sampleTorus(40000, Eigen::Vector3f(0.5f, 0.2f, -1.0f), 1.0f, 0.3f, 3)
@@ -82,7 +82,7 @@ TEST(NormalEstimation, ConsistentOrientationIsOutwardOnClosedSurfaces) {
   }
 }
 
-TEST(NormalEstimation, ConsistentOrientationSurvivesNoise) {
+TEST(OrientedNormalEstimation, ConsistentOrientationSurvivesNoise) {
   auto cloud =
       std::make_shared<Cloud>(testing::sampleTorus(40000, Eigen::Vector3f::Zero(), 1.0f, 0.3f, 5));
   testing::addNoise(*cloud, 0.003f, 6);
@@ -92,7 +92,7 @@ TEST(NormalEstimation, ConsistentOrientationSurvivesNoise) {
   EXPECT_EQ(outward(estimated(out), exact(*cloud)), cloud->size());
 }
 
-TEST(NormalEstimation, ReferenceOrientationKeepsTheInputSign) {
+TEST(OrientedNormalEstimation, ReferenceOrientationKeepsTheInputSign) {
   auto cloud =
       std::make_shared<Cloud>(testing::sampleSphere(5000, Eigen::Vector3f::Zero(), 1.0f, 7));
   auto reference = std::make_shared<Eigen::Matrix3Xf>(exact(*cloud));
@@ -105,7 +105,7 @@ TEST(NormalEstimation, ReferenceOrientationKeepsTheInputSign) {
   EXPECT_EQ(outward(estimated(out), *reference), cloud->size());
 }
 
-TEST(NormalEstimation, SharedNeighborhoodsGiveIdenticalNormals) {
+TEST(OrientedNormalEstimation, SharedNeighborhoodsGiveIdenticalNormals) {
   auto cloud =
       std::make_shared<Cloud>(testing::sampleSphere(5000, Eigen::Vector3f::Zero(), 1.0f, 8));
   NormalParameters p;
@@ -129,7 +129,7 @@ TEST(NormalEstimation, SharedNeighborhoodsGiveIdenticalNormals) {
   }
 }
 
-TEST(NormalEstimation, OutputIsAlignedWithIndices) {
+TEST(OrientedNormalEstimation, OutputIsAlignedWithIndices) {
   auto cloud =
       std::make_shared<Cloud>(testing::sampleSphere(3000, Eigen::Vector3f::Zero(), 1.0f, 9));
   auto ne = testing::normalEstimator<pcl::PointNormal>(cloud, NormalOrientation::consistent);
@@ -145,7 +145,7 @@ TEST(NormalEstimation, OutputIsAlignedWithIndices) {
               0.99f);
 }
 
-TEST(NormalEstimation, IsolatedPointsFailWithNaN) {
+TEST(OrientedNormalEstimation, IsolatedPointsFailWithNaN) {
   auto cloud =
       std::make_shared<Cloud>(testing::sampleSphere(2000, Eigen::Vector3f::Zero(), 1.0f, 10));
   pcl::PointNormal far;
@@ -160,11 +160,11 @@ TEST(NormalEstimation, IsolatedPointsFailWithNaN) {
   EXPECT_FALSE(out.is_dense);
 }
 
-TEST(NormalEstimation, RejectsBadInput) {
+TEST(OrientedNormalEstimation, RejectsBadInput) {
   NormalParameters p;
   p.k = 1;
   EXPECT_THROW(p.validate(), InvalidParameterError);
-  NormalEstimation<pcl::PointNormal, pcl::Normal> ne;
+  OrientedNormalEstimation<pcl::PointNormal, pcl::Normal> ne;
   ne.setInputCloud(std::make_shared<Cloud>());
   pcl::PointCloud<pcl::Normal> out;
   EXPECT_THROW(ne.compute(out), DegenerateInputError);

@@ -16,7 +16,7 @@
 
 namespace slipfit {
 
-/// Parameters of NormalEstimation.
+/// Parameters of OrientedNormalEstimation.
 struct NormalParameters {
   /// Neighbors per point when no neighborhoods are given. Range [3, 10000]; ignored with radius.
   int k = 16;
@@ -74,10 +74,10 @@ struct NormalStatistics {
 /// curvature, the surface variation λ₀/(λ₀+λ₁+λ₂), when it has that field). A point whose normal
 /// cannot be estimated gets NaN and the output's is_dense becomes false.
 template <typename PointInT, typename PointOutT>
-class NormalEstimation : public pcl::PCLBase<PointInT> {
+class OrientedNormalEstimation : public pcl::PCLBase<PointInT> {
  public:
-  using Ptr = std::shared_ptr<NormalEstimation<PointInT, PointOutT>>;
-  using ConstPtr = std::shared_ptr<const NormalEstimation<PointInT, PointOutT>>;
+  using Ptr = std::shared_ptr<OrientedNormalEstimation<PointInT, PointOutT>>;
+  using ConstPtr = std::shared_ptr<const OrientedNormalEstimation<PointInT, PointOutT>>;
   using SearchPtr = typename pcl::search::Search<PointInT>::Ptr;
 
   /// Checked when the work runs (one validation, PCL's initCompute convention).

@@ -44,7 +44,7 @@ bool collinear(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& indices
 }
 
 template <typename PointInT, typename PointOutT>
-void NormalEstimation<PointInT, PointOutT>::compute(pcl::PointCloud<PointOutT>& output) {
+void OrientedNormalEstimation<PointInT, PointOutT>::compute(pcl::PointCloud<PointOutT>& output) {
   parameters_.validate();
   if (!input_ || input_->empty())
     throw DegenerateInputError("normal estimation: the input cloud is empty");
