@@ -18,8 +18,10 @@ struct SegmentedCloud {
   std::size_t clusters = 0;  ///< pcl::PointIndices returned by segment()
 };
 
-/// Replaces \a cloud's normals by estimated ones and segments it with neighborhoods of \a k.
-inline SegmentedCloud segmentCloud(const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud, int k) {
+/// Replaces \a cloud's normals by estimated ones and segments it with neighborhoods of \a k (over
+/// the whole cloud); only the points \a indices when given (setIndices).
+inline SegmentedCloud segmentCloud(const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud, int k,
+                                   const pcl::IndicesConstPtr& indices = nullptr) {
   SegmentedCloud out;
   out.neighborhoods = knnNeighborhoods(cloud, k);
   estimateNormals(cloud, out.neighborhoods);
@@ -32,6 +34,8 @@ inline SegmentedCloud segmentCloud(const pcl::PointCloud<pcl::PointNormal>::Ptr&
   seg.setInputCloud(cloud);
   seg.setNeighborhoods(out.neighborhoods);
   seg.setLocalSlippage(slippage);
+  if (indices)
+    seg.setIndices(indices);
   std::vector<pcl::PointIndices> clusters;
   seg.segment(clusters);
   out.result = seg.result();

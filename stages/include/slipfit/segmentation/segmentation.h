@@ -29,7 +29,8 @@ struct SegmentationParameters {
   /// spacing, σ̂ the noise estimated from the lower quartile of the neighborhoods' residuals
   /// (docs/THEORY.md §6).
   std::optional<double> distance;
-  /// Largest angle between a member's normal and the primitive's (unsigned), radians.
+  /// Largest angle between a member's normal and the primitive's (unsigned), radians; also the
+  /// crease angle of two planes (phases 4, 6 and 11).
   double max_angle = 30.0 * kDegree;
   /// Smallest segment, points. Unset: 20 (an absolute count, whatever N).
   std::optional<std::size_t> min_points;
@@ -50,7 +51,10 @@ struct SegmentationParameters {
               .in("units")
               .above(0));
     visit(self.max_angle,
-          parameter("max_angle", "Largest angle between a member's normal and the primitive's.")
+          parameter("max_angle",
+                    "Largest angle between a member's normal and the primitive's; also the "
+                    "crease angle: planes whose normals differ by more meet at a crease (they "
+                    "merge only into a curved primitive, and a fillet is sought between them).")
               .in("deg", kDegree)
               .above(0)
               .atMost(90));
@@ -121,9 +125,12 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
                                      const std::vector<SlippageType>& local_types,
                                      const SegmentationParameters& parameters = {});
 
-/// PCL-style front end: setInputCloud() (a point type with normals), setNeighborhoods(),
-/// setLocalSlippage() (from LocalSlippage over the whole cloud), then segment(), which returns
-/// one pcl::PointIndices per segment like pcl::RegionGrowing; result() has labels and fits.
+/// PCL-style front end: setInputCloud() (a point type with normals), setNeighborhoods() and
+/// setLocalSlippage() (both over the whole cloud: LocalSlippage, NeighborhoodSelection), optionally
+/// setIndices() (only those points are segmented, and a point's neighbors outside them are
+/// ignored), then segment(), which returns one pcl::PointIndices per segment (cloud indices) like
+/// pcl::RegionGrowing; result() has labels for every cloud point (−1 outside the indices) and the
+/// fits.
 template <typename PointT>
 class SlippageSegmentation : public pcl::PCLBase<PointT> {
  public:
@@ -141,6 +148,7 @@ class SlippageSegmentation : public pcl::PCLBase<PointT> {
 
  protected:
   using pcl::PCLBase<PointT>::input_;
+  using pcl::PCLBase<PointT>::indices_;
 
  private:
   std::shared_ptr<const Neighborhoods> neighborhoods_;
