@@ -7,6 +7,7 @@
 #include "slipfit/pipeline/registry.h"
 #include "slipfit/pipeline/runner.h"
 #include "slipfit/pipeline/tiled_run.h"
+#include "slipfit/version.h"
 
 #include <pcl/console/print.h>
 #include <pcl/exceptions.h>
@@ -22,7 +23,7 @@ constexpr const char* kUsage =
     "usage: slipfit run CONFIG.yaml [--set KEY=VALUE ...] [--quiet]\n"
     "       slipfit validate CONFIG.yaml [--set KEY=VALUE ...]\n"
     "       slipfit stages\n"
-    "       slipfit describe STAGE|input|output\n"
+    "       slipfit describe STAGE|input|output|tiling|run\n"
     "KEY is input.OPTION, output.OPTION, threads, seed or TAG.OPTION (a stage's tag).\n"
     "Exit codes: 0 success, 1 run failure (input data, computation, output), 2 usage or config "
     "error.\n";
@@ -75,6 +76,8 @@ int describe(const std::string& name, std::ostream& out) {
   OptionSet options;
   InputSection input;
   OutputSection output;
+  TilingSection tiling;
+  RunSettings settings;
   std::unique_ptr<Stage> stage;
   if (name == "input") {
     out << "input: the point cloud the pipeline reads\n";
@@ -82,10 +85,17 @@ int describe(const std::string& name, std::ostream& out) {
   } else if (name == "output") {
     out << "output: where the pipeline writes (all files or none)\n";
     output.declare(options);
+  } else if (name == "tiling") {
+    out << "tiling: an out-of-core run in tiles, off while size is 0 (docs/TILING.md)\n";
+    tiling.declare(options);
+  } else if (name == "run" || name == "threads" || name == "seed") {
+    out << "run: the top-level settings of a config (threads, seed)\n";
+    settings.declare(options);
   } else {
     const StageInfo* info = findStage(name);
     if (!info)
-      throw ConfigError("unknown stage '" + name + "'; known stages: " + knownStagesText());
+      throw ConfigError("unknown stage '" + name + "'; known stages: " + knownStagesText() +
+                        " (and the sections input, output, tiling, run)");
     stage = info->make();
     stage->declare(options);
     out << info->name << ": " << info->summary << "\n";
@@ -114,7 +124,7 @@ int dispatch(const std::vector<std::string>& args, std::ostream& out) {
     return kSuccess;
   }
   if (command == "--version") {
-    out << "slipfit 0.1.0\n";
+    out << "slipfit " << kVersion << "\n";
     return kSuccess;
   }
   if (command == "stages") {

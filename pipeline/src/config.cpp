@@ -39,12 +39,14 @@ void TilingSection::declare(OptionSet& o) {
         "Edge of a tile's core in the cloud's units: the cloud is streamed into square tiles of "
         "the x-y plane, each run through the stages on its own and the segments joined across "
         "tiles (docs/TILING.md); 0: one untiled run.")
-      .range(0.0, 1e300);
+      .unit("units")
+      .atLeast(0.0);
   o.add("buffer", buffer,
         "Width of the band around each core that the tile also reads, where segments of "
         "neighbouring tiles are matched; at least a few neighbourhood radii, under size / 2 "
         "(0: a tenth of size).")
-      .range(0.0, 1e300);
+      .unit("units")
+      .atLeast(0.0);
   o.add("workdir", workdir,
         "Directory of the tiles and the per-tile results (kept for a rerun to resume; empty: "
         "<output.dir>/tiles).")

@@ -112,6 +112,16 @@ TEST(Cli, StagesDescribeValidate) {
   EXPECT_THAT(r.out, HasSubstr("consumes: points; produces: neighborhoods"));
   r = runSlipfit("describe input");
   EXPECT_THAT(r.out, HasSubstr("  path  (string)  default: required"));
+  r = runSlipfit("describe tiling");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("  size  (float, units)  default: 0  range: [0, inf)"));
+  EXPECT_THAT(r.out, HasSubstr("  workdir  (string"));
+  for (const char* name : {"run", "threads", "seed"}) {
+    r = runSlipfit(std::string("describe ") + name);
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_THAT(r.out, HasSubstr("  threads  (int)  default: 0  range: [0, 1024]")) << name;
+    EXPECT_THAT(r.out, HasSubstr("  seed  (")) << name;
+  }
 
   r = runSlipfit("validate configs/normals_demo.yaml");
   EXPECT_EQ(r.code, 0);
@@ -248,10 +258,22 @@ TEST(Cli, UsageErrorsExitTwo) {
 namespace slipfit::testing {
 namespace {
 
+// The version printed is the one project(VERSION) declares in the top-level CMakeLists.txt.
+TEST(Cli, VersionComesFromTheProject) {
+  const std::string cmake = slurp(std::string(kSourceDir) + "/CMakeLists.txt");
+  const auto at = cmake.find("project(slipfit VERSION ");
+  ASSERT_NE(at, std::string::npos);
+  const auto begin = at + std::string("project(slipfit VERSION ").size();
+  const std::string version = cmake.substr(begin, cmake.find(' ', begin) - begin);
+  const CliResult r = runSlipfit("--version");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_EQ(r.out, "slipfit " + version + "\n");
+}
+
 // docs/stages.md is generated from the option declarations; it must match what describe prints.
 TEST(Cli, StageDocsAreUpToDate) {
   const std::string docs = slurp(std::string(kSourceDir) + "/docs/stages.md");
-  std::vector<std::string> names = {"input", "output"};
+  std::vector<std::string> names = {"input", "output", "tiling", "run"};
   std::istringstream stages(runSlipfit("stages").out);
   for (std::string line; std::getline(stages, line);)
     names.push_back(line.substr(0, line.find(' ')));
