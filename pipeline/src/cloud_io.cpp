@@ -4,6 +4,7 @@
 
 #include "file_checks.h"
 #include "header_guard.h"
+#include "ply/ply_header.h"
 
 #include <pcl/PCLPointField.h>
 #include <pcl/io/pcd_io.h>
@@ -11,7 +12,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -27,36 +27,18 @@ using Field = pcl::PCLPointField;
 
 namespace {
 
-using detail::fieldTypeSize;
+using ply::datatypeBytes;
 
-template <typename T>
-double load(const std::uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof(T));
-  return static_cast<double>(v);
+/// The value at \a p of a PCLPointField \a datatype as double; NaN for a type PCL 1.13 does not
+/// know.
+double valueAt(const std::uint8_t* p, std::uint8_t datatype) {
+  const std::optional<ply::Scalar> scalar = ply::scalarOfDatatype(datatype);
+  return scalar ? ply::decode(*scalar, p) : std::numeric_limits<double>::quiet_NaN();
 }
 
-double valueAt(const std::uint8_t* p, std::uint8_t datatype) {
-  switch (datatype) {
-    case Field::INT8:
-      return load<std::int8_t>(p);
-    case Field::UINT8:
-      return load<std::uint8_t>(p);
-    case Field::INT16:
-      return load<std::int16_t>(p);
-    case Field::UINT16:
-      return load<std::uint16_t>(p);
-    case Field::INT32:
-      return load<std::int32_t>(p);
-    case Field::UINT32:
-      return load<std::uint32_t>(p);
-    case Field::FLOAT32:
-      return load<float>(p);
-    case Field::FLOAT64:
-      return load<double>(p);
-    default:
-      return std::numeric_limits<double>::quiet_NaN();
-  }
+/// The PLY type of a PCLPointField \a datatype (double for one PCL 1.13 does not know).
+ply::Scalar plyScalarOf(std::uint8_t datatype) {
+  return ply::scalarOfDatatype(datatype).value_or(ply::Scalar::f64);
 }
 
 const Field* findField(const pcl::PCLPointCloud2& blob, const char* name) {
@@ -87,36 +69,7 @@ void appendField(pcl::PCLPointCloud2& blob, const std::string& name, std::uint8_
   f.datatype = datatype;
   f.count = 1;
   blob.fields.push_back(f);
-  blob.point_step += static_cast<std::uint32_t>(fieldTypeSize(datatype));
-}
-
-const char* plyTypeName(std::uint8_t datatype) {
-  switch (datatype) {
-    case Field::INT8:
-      return "char";
-    case Field::UINT8:
-      return "uchar";
-    case Field::INT16:
-      return "short";
-    case Field::UINT16:
-      return "ushort";
-    case Field::INT32:
-      return "int";
-    case Field::UINT32:
-      return "uint";
-    case Field::FLOAT32:
-      return "float";
-    default:
-      return "double";
-  }
-}
-
-template <typename T>
-char* printValue(char* out, char* end, const std::uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof(T));
-  // Shortest text that reads back to the same value, for floats as for integers.
-  return std::to_chars(out, end, v).ptr;
+  blob.point_step += static_cast<std::uint32_t>(datatypeBytes(datatype));
 }
 
 /// Where the values of each written field live: a pointer to the first one and a stride, so that
@@ -173,7 +126,7 @@ RowLayout rowLayout(const PointData& data) {
   auto add = [&](const std::string& name, std::uint8_t type, const void* base, std::size_t stride) {
     appendField(h, name, type);
     layout.columns.push_back(
-        {static_cast<const std::uint8_t*>(base), stride, fieldTypeSize(type), std::nullopt});
+        {static_cast<const std::uint8_t*>(base), stride, datatypeBytes(type), std::nullopt});
   };
   const auto* first = reinterpret_cast<const std::uint8_t*>(cloud.data());
   const std::size_t ps = sizeof(pcl::PointNormal);
@@ -201,7 +154,7 @@ RowLayout rowLayout(const PointData& data) {
       // PCL packs PLY colours into one 32-bit rgb(a) field (0xAARRGGBB, little-endian in
       // memory); viewers want them back as uchar red, green, blue (alpha). A stage that colours
       // the points (segmentation) takes the names; the input's colours then keep their field.
-      const bool packed = (f.name == "rgb" || f.name == "rgba") && fieldTypeSize(f.datatype) == 4;
+      const bool packed = (f.name == "rgb" || f.name == "rgba") && datatypeBytes(f.datatype) == 4;
       if (packed && !stage_colours) {
         add("red", Field::UINT8, base + 2, stride);
         add("green", Field::UINT8, base + 1, stride);
@@ -240,17 +193,11 @@ RowLayout rowLayout(const PointData& data) {
 }
 
 std::string plyHeader(const pcl::PCLPointCloud2& h, const char* format) {
-  std::string text = std::string("ply\nformat ") + format +
-                     " 1.0\ncomment slipfit\nelement vertex " +
-                     std::to_string(static_cast<std::size_t>(h.width) * h.height) + "\n";
-  for (const auto& f : h.fields) {
-    // MeshLab and CloudCompare know normals as nx, ny, nz.
-    std::string name = f.name;
-    if (name.rfind("normal_", 0) == 0)
-      name = "n" + name.substr(7);
-    text += std::string("property ") + plyTypeName(f.datatype) + " " + name + "\n";
-  }
-  return text + "end_header\n";
+  std::vector<ply::Property> properties;
+  properties.reserve(h.fields.size());
+  for (const auto& f : h.fields)
+    properties.push_back({f.name, plyScalarOf(f.datatype)});
+  return ply::headerText(format, static_cast<std::uint64_t>(h.width) * h.height, properties);
 }
 
 /// Appends one row as text: the shortest decimal that reads back to each value.
@@ -258,35 +205,8 @@ void appendAsciiRow(const pcl::PCLPointCloud2& h, const std::uint8_t* row, std::
   char buffer[64];
   for (std::size_t c = 0; c < h.fields.size(); ++c) {
     const Field& f = h.fields[c];
-    const std::uint8_t* p = row + f.offset;
-    char* end = buffer + sizeof(buffer);
-    char* stop = buffer;
-    switch (f.datatype) {
-      case Field::INT8:
-        stop = printValue<std::int8_t>(buffer, end, p);
-        break;
-      case Field::UINT8:
-        stop = printValue<std::uint8_t>(buffer, end, p);
-        break;
-      case Field::INT16:
-        stop = printValue<std::int16_t>(buffer, end, p);
-        break;
-      case Field::UINT16:
-        stop = printValue<std::uint16_t>(buffer, end, p);
-        break;
-      case Field::INT32:
-        stop = printValue<std::int32_t>(buffer, end, p);
-        break;
-      case Field::UINT32:
-        stop = printValue<std::uint32_t>(buffer, end, p);
-        break;
-      case Field::FLOAT32:
-        stop = printValue<float>(buffer, end, p);
-        break;
-      default:
-        stop = printValue<double>(buffer, end, p);
-        break;
-    }
+    char* stop =
+        ply::print(plyScalarOf(f.datatype), row + f.offset, buffer, buffer + sizeof(buffer));
     if (c)
       line += ' ';
     line.append(buffer, stop);
@@ -371,8 +291,8 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   // Every field must fit its record: a header whose SIZE, TYPE and COUNT disagree would have the
   // reads below run past the data (found by tests/fuzz).
   for (const auto& f : blob.fields) {
-    const std::size_t size = fieldTypeSize(f.datatype) * std::max<std::uint32_t>(f.count, 1);
-    if (fieldTypeSize(f.datatype) == 0 || f.offset + size > blob.point_step)
+    const std::size_t size = datatypeBytes(f.datatype) * std::max<std::uint32_t>(f.count, 1);
+    if (datatypeBytes(f.datatype) == 0 || f.offset + size > blob.point_step)
       throw RunError(where + "field '" + f.name +
                      "' does not fit its record (inconsistent size, type or count)");
   }
@@ -487,7 +407,7 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   // Carry every other scalar field through with its own type.
   std::vector<const Field*> extra;
   for (const auto& f : blob.fields)
-    if (!isGeometryField(f.name) && f.name != "_" && f.count == 1 && fieldTypeSize(f.datatype) > 0)
+    if (!isGeometryField(f.name) && f.name != "_" && f.count == 1 && datatypeBytes(f.datatype) > 0)
       extra.push_back(&f);
   pcl::PCLPointCloud2& out = data.extra;
   out.height = 1;
@@ -502,7 +422,7 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
     for (std::size_t e = 0; e < extra.size(); ++e)
       std::memcpy(out.data.data() + j * out.point_step + out.fields[e].offset,
                   blob.data.data() + keep[j] * blob.point_step + extra[e]->offset,
-                  fieldTypeSize(extra[e]->datatype));
+                  datatypeBytes(extra[e]->datatype));
 
   if (report) {
     report->points_read = n;

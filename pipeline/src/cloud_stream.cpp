@@ -9,20 +9,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <vector>
 
 namespace slipfit::pipeline {
 
 namespace {
-
-int plyTypeBytes(const std::string& type) {
-  return static_cast<int>(detail::plyTypeSize(type));
-}
-
-bool isFloatType(const std::string& type) {
-  return type == "float" || type == "float32" || type == "double" || type == "float64";
-}
 
 std::vector<std::string> words(const std::string& line) {
   std::istringstream s(line);
@@ -32,92 +25,28 @@ std::vector<std::string> words(const std::string& line) {
   return out;
 }
 
-/// The PLY type name of either spelling in its short form (float32 -> float, ...).
-std::string canonicalType(const std::string& type) {
-  static const std::pair<const char*, const char*> kLong[] = {
-      {"int8", "char"}, {"uint8", "uchar"}, {"int16", "short"},   {"uint16", "ushort"},
-      {"int32", "int"}, {"uint32", "uint"}, {"float32", "float"}, {"float64", "double"}};
-  for (const auto& [from, to] : kLong)
-    if (type == from)
-      return to;
-  return type;
-}
-
-/// The PLY type of a PCD field of TYPE \a type and SIZE \a size ("" when PCL has none).
-std::string pcdFieldType(const std::string& type, std::uint64_t size) {
+/// The type of a PCD field of TYPE \a type and SIZE \a size (nullopt when PCL has none).
+std::optional<ply::Scalar> pcdFieldType(const std::string& type, std::uint64_t size) {
+  using ply::Scalar;
   if (type == "F")
-    return size == 4 ? "float" : size == 8 ? "double" : "";
+    return size == 4   ? std::optional(Scalar::f32)
+           : size == 8 ? std::optional(Scalar::f64)
+                       : std::nullopt;
   const bool is_signed = type == "I";
   if (!is_signed && type != "U")
-    return "";
+    return std::nullopt;
   switch (size) {
     case 1:
-      return is_signed ? "char" : "uchar";
+      return is_signed ? Scalar::i8 : Scalar::u8;
     case 2:
-      return is_signed ? "short" : "ushort";
+      return is_signed ? Scalar::i16 : Scalar::u16;
     case 4:
-      return is_signed ? "int" : "uint";
+      return is_signed ? Scalar::i32 : Scalar::u32;
     case 8:
-      return is_signed ? "int64" : "uint64";
+      return is_signed ? Scalar::i64 : Scalar::u64;
     default:
-      return "";
+      return std::nullopt;
   }
-}
-
-/// Writes the text \a text as one value of PLY type \a type at \a out (little-endian); false
-/// when it is not a number of that type.
-bool packValue(const std::string& type, const std::string& text, char* out) {
-  char* end = nullptr;
-  if (type == "float" || type == "double") {
-    const double v = std::strtod(text.c_str(), &end);
-    if (end != text.c_str() + text.size() || text.empty())
-      return false;
-    if (type == "float") {
-      const auto f = static_cast<float>(v);
-      std::memcpy(out, &f, 4);
-    } else {
-      std::memcpy(out, &v, 8);
-    }
-    return true;
-  }
-  errno = 0;
-  const bool is_signed = type == "char" || type == "short" || type == "int" || type == "int64";
-  if (is_signed) {
-    const long long v = std::strtoll(text.c_str(), &end, 10);
-    if (end != text.c_str() + text.size() || text.empty() || errno)
-      return false;
-    auto put = [&](auto value) {
-      if (static_cast<long long>(value) != v)
-        return false;
-      std::memcpy(out, &value, sizeof value);
-      return true;
-    };
-    if (type == "char")
-      return put(static_cast<std::int8_t>(v));
-    if (type == "short")
-      return put(static_cast<std::int16_t>(v));
-    if (type == "int")
-      return put(static_cast<std::int32_t>(v));
-    return put(static_cast<std::int64_t>(v));
-  }
-  if (text.empty() || text[0] == '-')
-    return false;
-  const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
-  if (end != text.c_str() + text.size() || errno)
-    return false;
-  auto put = [&](auto value) {
-    if (static_cast<unsigned long long>(value) != v)
-      return false;
-    std::memcpy(out, &value, sizeof value);
-    return true;
-  };
-  if (type == "uchar")
-    return put(static_cast<std::uint8_t>(v));
-  if (type == "ushort")
-    return put(static_cast<std::uint16_t>(v));
-  if (type == "uint")
-    return put(static_cast<std::uint32_t>(v));
-  return put(static_cast<std::uint64_t>(v));
 }
 
 /// A plain decimal count (header_guard.h's parser, any size).
@@ -159,8 +88,9 @@ void CloudStream::fail(const std::string& what) const {
   throw RunError("'" + path_ + "': " + what);
 }
 
-void CloudStream::addField(const std::string& name, const std::string& type, std::uint32_t bytes) {
-  fields_.push_back({name, type, bytes, record_bytes_});
+void CloudStream::addField(const std::string& name, ply::Scalar scalar) {
+  const auto bytes = static_cast<std::uint32_t>(ply::scalarBytes(scalar));
+  fields_.push_back({name, scalar, bytes, record_bytes_});
   record_bytes_ += bytes;
 }
 
@@ -179,7 +109,7 @@ void CloudStream::parsePly() {
   int number = 0;
   bool in_vertex = false, seen_vertex = false;
   std::uint64_t skip_bytes = 0, skip_lines = 0, element_count = 0;
-  std::string coordinate_type;
+  std::optional<ply::Scalar> coordinate_type;
   int property = 0;
   std::vector<std::string> w;
   while (headerLine(line, w, number)) {
@@ -215,21 +145,23 @@ void CloudStream::parsePly() {
           fail(at + "a list property in or before the vertex element cannot be read by rows");
         continue;
       }
-      if (w.size() != 3 || plyTypeBytes(w[1]) == 0)
+      const std::optional<ply::Scalar> scalar =
+          w.size() == 3 ? ply::scalarNamed(w[1]) : std::nullopt;
+      if (!scalar)
         fail(at + "a property line is 'property <type> <name>'");
-      const int bytes = plyTypeBytes(w[1]);
+      const std::size_t bytes = ply::scalarBytes(*scalar);
       if (in_vertex) {
         for (int a = 0; a < 3; ++a)
           if (w[2] == std::string(1, "xyz"[a])) {
-            if (!isFloatType(w[1]))
+            if (!ply::isFloating(*scalar))
               fail(at + "coordinate " + w[2] + " is not float or double");
-            if (!coordinate_type.empty() && plyTypeBytes(coordinate_type) != bytes)
+            if (coordinate_type && ply::scalarBytes(*coordinate_type) != bytes)
               fail(at + "x, y and z must have one type");
-            coordinate_type = w[1];
+            coordinate_type = scalar;
             offset_[a] = record_bytes_;
             column_[a] = property;
           }
-        addField(w[2], canonicalType(w[1]), static_cast<std::uint32_t>(bytes));
+        addField(w[2], *scalar);
         ++property;
       } else if (!seen_vertex) {
         const auto b = static_cast<std::uint64_t>(bytes);
@@ -242,7 +174,7 @@ void CloudStream::parsePly() {
         fail("no vertex element");
       if (column_[0] < 0 || column_[1] < 0 || column_[2] < 0)
         fail("the vertex element has no x, y and z");
-      coordinate_bytes_ = plyTypeBytes(coordinate_type);
+      coordinate_bytes_ = static_cast<int>(ply::scalarBytes(*coordinate_type));
       columns_ = property;
       data_offset_ = static_cast<std::uint64_t>(in_.tellg());
       if (encoding_ == Encoding::ascii)
@@ -315,12 +247,11 @@ void CloudStream::parsePcd() {
             offset_[a] = record_bytes_;
             column_[a] = column;
           }
-        const std::string type = pcdFieldType(types[f], size);
-        if (type.empty())
+        const std::optional<ply::Scalar> type = pcdFieldType(types[f], size);
+        if (!type)
           fail(at + "field " + fields[f] + " has TYPE " + types[f] + " of SIZE " + sizes[f]);
         for (std::uint64_t k = 0; k < count; ++k)
-          addField(count == 1 ? fields[f] : fields[f] + "_" + std::to_string(k), type,
-                   static_cast<std::uint32_t>(size));
+          addField(count == 1 ? fields[f] : fields[f] + "_" + std::to_string(k), *type);
         column += static_cast<int>(count);
       }
       if (column_[0] < 0 || column_[1] < 0 || column_[2] < 0)
@@ -410,9 +341,9 @@ void CloudStream::readAsciiRecords(std::uint64_t first, std::uint64_t count,
       fail("row " + std::to_string(next_row_) + " has " + std::to_string(w.size()) +
            " values, the header announces " + std::to_string(columns_));
     for (std::size_t f = 0; f < fields_.size(); ++f)
-      if (!packValue(fields_[f].type, w[f], rows.data() + r * record_bytes_ + fields_[f].offset))
-        fail("row " + std::to_string(next_row_) + ": '" + w[f] + "' is not a " + fields_[f].type +
-             " (" + fields_[f].name + ")");
+      if (!ply::parse(fields_[f].scalar, w[f], rows.data() + r * record_bytes_ + fields_[f].offset))
+        fail("row " + std::to_string(next_row_) + ": '" + w[f] + "' is not a " +
+             ply::scalarName(fields_[f].scalar) + " (" + fields_[f].name + ")");
   }
 }
 

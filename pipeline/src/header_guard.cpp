@@ -1,20 +1,20 @@
 #include "header_guard.h"
 
 #include "slipfit/pipeline/errors.h"
+#include "slipfit/pipeline/ply_scalar.h"
 
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <map>
+#include <optional>
 #include <vector>
 
 namespace slipfit::pipeline::detail {
 
 namespace {
 
-using Field = pcl::PCLPointField;
 using u64 = std::uint64_t;
 
 constexpr std::size_t kMaxHeaderBytes = 1 << 20;
@@ -128,14 +128,15 @@ bool parseCount(const std::string& text, std::uint64_t max, std::uint64_t& value
   return value <= max;
 }
 
+namespace {
+
+/// Byte size of a PLY scalar type name (both spellings), 0 when unknown.
 std::size_t plyTypeSize(const std::string& t) {
-  static const std::map<std::string, std::size_t> kSizes = {
-      {"char", 1},   {"int8", 1},    {"uchar", 1},  {"uint8", 1},  {"short", 2}, {"int16", 2},
-      {"ushort", 2}, {"uint16", 2},  {"int", 4},    {"int32", 4},  {"uint", 4},  {"uint32", 4},
-      {"float", 4},  {"float32", 4}, {"double", 8}, {"float64", 8}};
-  const auto it = kSizes.find(t);
-  return it == kSizes.end() ? 0 : it->second;
+  const std::optional<ply::Scalar> scalar = ply::scalarNamed(t);
+  return scalar ? ply::scalarBytes(*scalar) : 0;
 }
+
+}  // namespace
 
 void checkPlyHeader(const std::string& path, const std::string& where) {
   u64 file_size = 0;
@@ -420,29 +421,10 @@ void checkPcdHeaderText(const std::string& path, const std::string& where) {
         saturatingMul(points != 0 ? points : saturatingMul(width, height), record()));
 }
 
-std::size_t fieldTypeSize(std::uint8_t datatype) {
-  switch (datatype) {
-    case Field::INT8:
-    case Field::UINT8:
-      return 1;
-    case Field::INT16:
-    case Field::UINT16:
-      return 2;
-    case Field::INT32:
-    case Field::UINT32:
-    case Field::FLOAT32:
-      return 4;
-    case Field::FLOAT64:
-      return 8;
-    default:
-      return 0;
-  }
-}
-
 void checkPcdLayout(const pcl::PCLPointCloud2& header, const std::string& where) {
   std::uint32_t expected = 0;
   for (const auto& f : header.fields) {
-    const std::size_t size = fieldTypeSize(f.datatype);
+    const std::size_t size = ply::datatypeBytes(f.datatype);
     if (size == 0 || f.count == 0 || f.offset != expected ||
         f.offset + size * f.count > header.point_step)
       throw RunError(where + "field '" + f.name +

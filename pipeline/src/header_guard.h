@@ -27,12 +27,6 @@ void checkPcdHeaderText(const std::string& path, const std::string& where);
 /// A plain decimal number (no sign, no exponent, no trailing text) no larger than \a max.
 bool parseCount(const std::string& text, std::uint64_t max, std::uint64_t& value);
 
-/// Byte size of a PLY scalar type name (both spellings), 0 when unknown.
-std::size_t plyTypeSize(const std::string& type);
-
-/// Bytes of one value of a PCLPointField datatype; 0 for a type PCL 1.13 does not know.
-std::size_t fieldTypeSize(std::uint8_t datatype);
-
 /// After PCL's PCDReader::readHeader, before PCDReader::read: every field must have a known type
 /// and the fields must tile the record exactly (PCL writes each value with the size of its TYPE),
 /// and the buffer PCL sized at the POINTS line must hold every record.

@@ -78,7 +78,7 @@ TEST(CloudStream, RowRangesEqualPclsWholeRead) {
       const auto f = std::find_if(s.fields().begin(), s.fields().end(),
                                   [&](const StreamField& x) { return x.name == name; });
       ASSERT_NE(f, s.fields().end()) << c.name << " " << name;
-      ASSERT_EQ(f->type, "float");
+      ASSERT_EQ(f->scalar, ply::Scalar::f32);
       float v[2];
       for (int r = 0; r < 2; ++r)
         std::memcpy(&v[r], rows.data() + r * s.recordBytes() + f->offset, 4);
@@ -128,7 +128,7 @@ TEST(CloudStream, BigEndianDoublesKeepTheirPrecision) {
   // Whole rows come back little-endian: the doubles and the intensity after them.
   ASSERT_EQ(s.fields().size(), 4u);
   EXPECT_EQ(s.fields()[3].name, "intensity");
-  EXPECT_EQ(s.fields()[3].type, "uchar");
+  EXPECT_EQ(s.fields()[3].scalar, ply::Scalar::u8);
   std::vector<char> rows;
   s.readRecords(0, 3, rows);
   ASSERT_EQ(rows.size(), 3u * 25u);

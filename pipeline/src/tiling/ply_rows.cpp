@@ -2,6 +2,8 @@
 
 #include "slipfit/pipeline/errors.h"
 
+#include "ply/ply_header.h"
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -9,19 +11,16 @@
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
+#include <vector>
 
 namespace slipfit::pipeline::tiling {
 
 std::string plyHeader(const std::vector<StreamField>& fields, std::uint64_t count) {
-  std::string text = "ply\nformat binary_little_endian 1.0\ncomment slipfit\nelement vertex " +
-                     std::to_string(count) + "\n";
-  for (const StreamField& f : fields) {
-    std::string name = f.name;
-    if (name.rfind("normal_", 0) == 0)
-      name = "n" + name.substr(7);
-    text += "property " + f.type + " " + name + "\n";
-  }
-  return text + "end_header\n";
+  std::vector<ply::Property> properties;
+  properties.reserve(fields.size());
+  for (const StreamField& f : fields)
+    properties.push_back({f.name, f.scalar});
+  return ply::headerText("binary_little_endian", count, properties);
 }
 
 std::vector<StreamField> withoutFields(const std::vector<StreamField>& all,
@@ -61,85 +60,6 @@ RowCopy::RowCopy(const std::vector<StreamField>& from, const std::vector<StreamF
 void RowCopy::apply(const char* source, char* target) const {
   for (const Span& s : spans_)
     std::memcpy(target + s.to, source + s.from, s.bytes);
-}
-
-namespace {
-template <typename T>
-T load(const char* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-template <typename T>
-void store(char* p, double v) {
-  const T t = static_cast<T>(v);
-  std::memcpy(p, &t, sizeof t);
-}
-}  // namespace
-
-FieldAt fieldAt(const StreamField& f) {
-  static const std::pair<const char*, ValueKind> kKinds[] = {
-      {"char", ValueKind::i8},    {"uchar", ValueKind::u8},   {"short", ValueKind::i16},
-      {"ushort", ValueKind::u16}, {"int", ValueKind::i32},    {"uint", ValueKind::u32},
-      {"int64", ValueKind::i64},  {"uint64", ValueKind::u64}, {"float", ValueKind::f32},
-      {"double", ValueKind::f64}};
-  for (const auto& [name, kind] : kKinds)
-    if (f.type == name)
-      return {kind, f.offset};
-  throw std::invalid_argument("field " + f.name + " has type " + f.type);
-}
-
-double FieldAt::get(const char* row) const {
-  const char* p = row + offset;
-  switch (kind) {
-    case ValueKind::i8:
-      return load<std::int8_t>(p);
-    case ValueKind::u8:
-      return load<std::uint8_t>(p);
-    case ValueKind::i16:
-      return load<std::int16_t>(p);
-    case ValueKind::u16:
-      return load<std::uint16_t>(p);
-    case ValueKind::i32:
-      return load<std::int32_t>(p);
-    case ValueKind::u32:
-      return load<std::uint32_t>(p);
-    case ValueKind::i64:
-      return static_cast<double>(load<std::int64_t>(p));
-    case ValueKind::u64:
-      return static_cast<double>(load<std::uint64_t>(p));
-    case ValueKind::f32:
-      return load<float>(p);
-    case ValueKind::f64:
-      return load<double>(p);
-  }
-  return 0.0;
-}
-
-void FieldAt::set(char* row, double value) const {
-  char* p = row + offset;
-  switch (kind) {
-    case ValueKind::i8:
-      return store<std::int8_t>(p, value);
-    case ValueKind::u8:
-      return store<std::uint8_t>(p, value);
-    case ValueKind::i16:
-      return store<std::int16_t>(p, value);
-    case ValueKind::u16:
-      return store<std::uint16_t>(p, value);
-    case ValueKind::i32:
-      return store<std::int32_t>(p, value);
-    case ValueKind::u32:
-      return store<std::uint32_t>(p, value);
-    case ValueKind::i64:
-      return store<std::int64_t>(p, value);
-    case ValueKind::u64:
-      return store<std::uint64_t>(p, value);
-    case ValueKind::f32:
-      return store<float>(p, value);
-    case ValueKind::f64:
-      return store<double>(p, value);
-  }
 }
 
 void writeOrFail(std::ofstream& out, const char* bytes, std::size_t size, const std::string& path) {

@@ -22,19 +22,17 @@ std::vector<StreamField> withoutFields(const std::vector<StreamField>& all,
 /// The field named \a name of \a fields, or nullptr.
 const StreamField* findField(const std::vector<StreamField>& fields, const std::string& name);
 
-/// A numeric PLY type, decided once per field rather than per value.
-enum class ValueKind : std::uint8_t { i8, u8, i16, u16, i32, u32, i64, u64, f32, f64 };
-
 /// Reads and writes one field of little-endian rows, converting to and from double (an integer
 /// field takes a written value rounded toward zero).
 struct FieldAt {
-  ValueKind kind = ValueKind::f64;
+  ply::Scalar scalar = ply::Scalar::f64;
   std::uint64_t offset = 0;
-  double get(const char* row) const;
-  void set(char* row, double value) const;
+  double get(const char* row) const { return ply::decode(scalar, row + offset); }
+  void set(char* row, double value) const { ply::encode(scalar, value, row + offset); }
 };
-/// Throws std::invalid_argument for a type that is not a PLY scalar (or int64/uint64).
-FieldAt fieldAt(const StreamField& field);
+inline FieldAt fieldAt(const StreamField& field) {
+  return {field.scalar, field.offset};
+}
 
 /// Copies the fields of \a to from rows laid out as \a from (by name; each must exist there with
 /// the same size), as a few contiguous spans.

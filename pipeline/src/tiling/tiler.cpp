@@ -106,7 +106,7 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
                           const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
   CloudStream in(input);
   for (const StreamField& f : in.fields())
-    if (f.type == "int64" || f.type == "uint64")
+    if (f.scalar == ply::Scalar::i64 || f.scalar == ply::Scalar::u64)
       throw RunError("input '" + input + "': field " + f.name +
                      " holds 8-byte integers, which PLY tiles cannot carry");
   TilingManifest m;
@@ -159,8 +159,8 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
     if (f.name == "tile_row" || f.name == "tile_core")
       throw RunError("input '" + input + "': field " + f.name + " is the tiling's own");
   const std::uint64_t kept_bytes = fields.empty() ? 0 : fields.back().offset + fields.back().bytes;
-  fields.push_back({"tile_row", "double", 8, kept_bytes});
-  fields.push_back({"tile_core", "uchar", 1, kept_bytes + 8});
+  fields.push_back({"tile_row", ply::Scalar::f64, 8, kept_bytes});
+  fields.push_back({"tile_core", ply::Scalar::u8, 1, kept_bytes + 8});
   const std::uint64_t tile_row_bytes = kept_bytes + 9;
 
   std::filesystem::create_directories(dir);

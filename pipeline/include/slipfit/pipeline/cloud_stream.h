@@ -5,6 +5,8 @@
 /// (docs/TILING.md); the header is parsed here because PCL 1.13's PLYReader::readHeader reads the
 /// whole file.
 
+#include "slipfit/pipeline/ply_scalar.h"
+
 #include <Eigen/Core>
 
 #include <cstdint>
@@ -14,13 +16,13 @@
 
 namespace slipfit::pipeline {
 
-/// One scalar property of a streamed row: its PLY type name (char, uchar, short, ushort, int,
-/// uint, float, double; a PCD field of 8-byte integers is int64/uint64) and its place in the
-/// little-endian row that readRecords returns. A PCD field of COUNT k becomes k fields NAME_0 ...
+/// One scalar property of a streamed row: its type (a PCD field of 8-byte integers is int64 or
+/// uint64) and its place in the little-endian row that readRecords returns. A PCD field of COUNT
+/// k becomes k fields NAME_0 ...
 struct StreamField {
   std::string name;
-  std::string type;
-  std::uint32_t bytes = 0;
+  ply::Scalar scalar = ply::Scalar::f32;
+  std::uint32_t bytes = 0;  ///< ply::scalarBytes(scalar)
   std::uint64_t offset = 0;
 };
 
@@ -57,7 +59,7 @@ class CloudStream {
   void parsePly();
   void parsePcd();
   [[noreturn]] void fail(const std::string& what) const;
-  void addField(const std::string& name, const std::string& type, std::uint32_t bytes);
+  void addField(const std::string& name, ply::Scalar scalar);
   void checkRange(std::uint64_t first, std::uint64_t count) const;
   void readAsciiRecords(std::uint64_t first, std::uint64_t count, std::vector<char>& rows);
 
