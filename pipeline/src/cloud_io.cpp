@@ -233,36 +233,39 @@ Eigen::Vector3d globalShift(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi
   return (centre / step).array().round().matrix() * step;
 }
 
-PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report) {
-  const std::string where = "input '" + path + "': ";
-  detail::checkReadableFile(path, where, "a point cloud file");
-  std::error_code ec;
-  const std::string ext = lowerExtension(path);
-  if (ext != ".ply" && ext != ".pcd")
-    throw RunError(where + "unsupported file type '" + ext + "' (expected .ply or .pcd)");
-  if (fs::file_size(path, ec) == 0)
-    throw RunError(where + "the file is empty");
+namespace {
 
-  if (ext == ".ply")
+/// A file read by PCL into a blob, with the sensor pose its header gives.
+struct ReadBlob {
+  pcl::PCLPointCloud2 blob;
+  Eigen::Vector4f origin = Eigen::Vector4f::Zero();
+  Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
+  std::size_t points = 0;
+};
+
+/// Reads \a path (.ply or .pcd, its header checked first) with PCL's reader; RunError for
+/// anything malformed, truncated, empty or whose fields do not fit their records.
+ReadBlob readBlob(const std::string& path, bool ply, const std::string& where) {
+  if (ply)
     detail::checkPlyHeader(path, where);
   else
     detail::checkPcdHeaderText(path, where);
-  pcl::PCLPointCloud2 blob;
-  Eigen::Vector4f origin;
-  Eigen::Quaternionf orientation;
+  ReadBlob r;
+  pcl::PCLPointCloud2& blob = r.blob;
   int version = 0;
   int rc = -1;
   try {
-    if (ext == ".ply") {
+    if (ply) {
       pcl::PLYReader reader;
-      rc = reader.read(path, blob, origin, orientation, version, 0);
+      rc = reader.read(path, blob, r.origin, r.orientation, version, 0);
     } else {
       // PCL 1.13's PCDReader::read dereferences null on some malformed headers that announce no
       // points (found by tests/fuzz): the header is checked on its own first.
       pcl::PCDReader reader;
       int data_type = 0;
       unsigned int data_index = 0;
-      rc = reader.readHeader(path, blob, origin, orientation, version, data_type, data_index, 0);
+      rc =
+          reader.readHeader(path, blob, r.origin, r.orientation, version, data_type, data_index, 0);
       if (rc >= 0 && (blob.fields.empty() || blob.point_step == 0))
         rc = -1;
       else if (rc >= 0)
@@ -270,16 +273,16 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
       if (rc >= 0 && static_cast<std::size_t>(blob.width) * blob.height == 0)
         throw RunError(where + "the cloud is empty (0 points)");
       if (rc >= 0)
-        rc = reader.read(path, blob, origin, orientation, version, 0);
+        rc = reader.read(path, blob, r.origin, r.orientation, version, 0);
     }
   } catch (const RunError&) {
     throw;
   } catch (const std::exception& e) {
     throw RunError(where + "cannot be read: " + e.what());
   }
-  const char* kind = ext == ".ply" ? "PLY" : "PCD";
   if (rc < 0)
-    throw RunError(where + "not a readable " + kind + " file (malformed or truncated)");
+    throw RunError(where + "not a readable " + (ply ? "PLY" : "PCD") +
+                   " file (malformed or truncated)");
   const std::size_t n = static_cast<std::size_t>(blob.width) * blob.height;
   if (blob.data.size() != n * blob.point_step)
     throw RunError(where + "truncated: the header announces " + std::to_string(n) +
@@ -287,7 +290,6 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
                    std::to_string(blob.point_step ? blob.data.size() / blob.point_step : 0));
   if (n == 0)
     throw RunError(where + "the cloud is empty (0 points)");
-
   // Every field must fit its record: a header whose SIZE, TYPE and COUNT disagree would have the
   // reads below run past the data (found by tests/fuzz).
   for (const auto& f : blob.fields) {
@@ -296,50 +298,75 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
       throw RunError(where + "field '" + f.name +
                      "' does not fit its record (inconsistent size, type or count)");
   }
-  const Field* fx = findField(blob, "x");
-  const Field* fy = findField(blob, "y");
-  const Field* fz = findField(blob, "z");
-  if (!fx || !fy || !fz)
-    throw RunError(where + "no x, y, z fields");
-  const Field* fnx = findField(blob, "normal_x");
-  const Field* fny = findField(blob, "normal_y");
-  const Field* fnz = findField(blob, "normal_z");
-  if (!fnx)
-    fnx = findField(blob, "nx");
-  if (!fny)
-    fny = findField(blob, "ny");
-  if (!fnz)
-    fnz = findField(blob, "nz");
-  bool has_normals = fnx && fny && fnz;
-  const Field* fcurv = findField(blob, "curvature");
+  r.points = n;
+  return r;
+}
 
-  auto value = [&](std::size_t row, const Field* f) {
+/// The geometry fields of a blob and its values as double.
+struct GeometryFields {
+  const pcl::PCLPointCloud2& blob;
+  const Field *x = nullptr, *y = nullptr, *z = nullptr;
+  const Field *nx = nullptr, *ny = nullptr, *nz = nullptr, *curvature = nullptr;
+  bool has_normals = false;
+
+  double value(std::size_t row, const Field* f) const {
     return valueAt(blob.data.data() + row * blob.point_step + f->offset, f->datatype);
+  }
+  Eigen::Vector3d point(std::size_t row) const {
+    return {value(row, x), value(row, y), value(row, z)};
+  }
+  /// Row \a i has a usable normal: finite and not zero.
+  bool normalOk(std::size_t i) const {
+    const double a = value(i, nx), b = value(i, ny), c = value(i, nz);
+    return std::isfinite(a) && std::isfinite(b) && std::isfinite(c) && a * a + b * b + c * c > 0.0;
+  }
+};
+
+/// x, y, z (RunError when absent), the normals as normal_x/y/z or nx/ny/nz (absent when every
+/// one is zero: a file whose normals are all zero has placeholders, not normals), curvature.
+GeometryFields geometryFields(const pcl::PCLPointCloud2& blob, std::size_t n,
+                              const std::string& where) {
+  GeometryFields g{blob};
+  g.x = findField(blob, "x");
+  g.y = findField(blob, "y");
+  g.z = findField(blob, "z");
+  if (!g.x || !g.y || !g.z)
+    throw RunError(where + "no x, y, z fields");
+  const auto either = [&](const char* a, const char* b) {
+    const Field* f = findField(blob, a);
+    return f ? f : findField(blob, b);
   };
-  if (has_normals) {
-    // A file whose normals are all zero has placeholders, not normals.
+  g.nx = either("normal_x", "nx");
+  g.ny = either("normal_y", "ny");
+  g.nz = either("normal_z", "nz");
+  g.has_normals = g.nx && g.ny && g.nz;
+  g.curvature = findField(blob, "curvature");
+  if (g.has_normals) {
     bool any = false;
     for (std::size_t i = 0; i < n && !any; ++i)
-      any = value(i, fnx) != 0.0 || value(i, fny) != 0.0 || value(i, fnz) != 0.0;
-    has_normals = any;
+      any = g.value(i, g.nx) != 0.0 || g.value(i, g.ny) != 0.0 || g.value(i, g.nz) != 0.0;
+    g.has_normals = any;
   }
+  return g;
+}
 
+/// The rows kept: finite coordinates within float's range (RunError at the first other one with
+/// NanPolicy::error). Counts the kept rows whose normal is unusable.
+std::vector<std::size_t> keptRows(const GeometryFields& g, std::size_t n, NanPolicy nan_policy,
+                                  const std::string& where, std::size_t& normals_missing,
+                                  std::size_t& first_missing_normal) {
   std::vector<std::size_t> keep;
   keep.reserve(n);
-  const auto normal_ok = [&](std::size_t i) {
-    const double nx = value(i, fnx), ny = value(i, fny), nz = value(i, fnz);
-    return std::isfinite(nx) && std::isfinite(ny) && std::isfinite(nz) &&
-           nx * nx + ny * ny + nz * nz > 0.0;
-  };
-  std::size_t normals_missing = 0, first_missing_normal = 0;
+  normals_missing = 0;
+  first_missing_normal = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const double x = value(i, fx), y = value(i, fy), z = value(i, fz);
-    const bool finite = std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
-    const double largest = std::max({std::abs(x), std::abs(y), std::abs(z)});
+    const Eigen::Vector3d p = g.point(i);
+    const bool finite = p.allFinite();
+    const double largest = p.cwiseAbs().maxCoeff();
     const bool ok = finite && largest <= std::numeric_limits<float>::max();
     if (ok) {
       keep.push_back(i);
-      if (has_normals && !normal_ok(i) && normals_missing++ == 0)
+      if (g.has_normals && !g.normalOk(i) && normals_missing++ == 0)
         first_missing_normal = i;
     } else if (nan_policy == NanPolicy::error) {
       std::ostringstream what;
@@ -353,58 +380,56 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   }
   if (keep.empty())
     throw RunError(where + "none of its " + std::to_string(n) + " points has finite values");
+  return keep;
+}
 
-  PointData data;
-  data.has_normals = has_normals;
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector3d hi = -lo;
-  for (const std::size_t i : keep) {
-    const Eigen::Vector3d p(value(i, fx), value(i, fy), value(i, fz));
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  data.frame.double_coordinates = fx->datatype == Field::FLOAT64 ||
-                                  fy->datatype == Field::FLOAT64 || fz->datatype == Field::FLOAT64;
-  if (data.frame.double_coordinates)
-    data.frame.shift = globalShift(lo, hi);
+/// The sensor's view of a PCD: organized, or with a VIEWPOINT that is not the identity at the
+/// origin; nullopt otherwise.
+std::optional<SensorPose> sensorPose(const ReadBlob& r, bool pcd, const Eigen::Vector3d& shift) {
+  const bool posed = r.origin.head<3>().squaredNorm() > 0.0f ||
+                     !r.orientation.coeffs().isApprox(Eigen::Quaternionf::Identity().coeffs());
+  if (!(pcd && (r.blob.height > 1 || posed) && r.origin.allFinite() &&
+        r.orientation.coeffs().allFinite() && r.orientation.norm() > 0.0f))
+    return std::nullopt;
+  SensorPose sensor;
+  sensor.origin = r.origin.head<3>().cast<double>() - shift;
+  sensor.orientation = r.orientation.cast<double>().normalized();
+  sensor.width = r.blob.width;
+  sensor.height = r.blob.height;
+  return sensor;
+}
+
+/// The kept rows as points (shifted by the frame's shift), with their normals and curvature
+/// where usable (NaN otherwise).
+void fillCloud(const GeometryFields& g, const std::vector<std::size_t>& keep, PointData& data) {
   const Eigen::Vector3d& shift = data.frame.shift;
-  // A sensor's view: an organized PCD, or one whose VIEWPOINT is not the identity at the origin.
-  const bool posed = origin.head<3>().squaredNorm() > 0.0f ||
-                     !orientation.coeffs().isApprox(Eigen::Quaternionf::Identity().coeffs());
-  if (ext == ".pcd" && (blob.height > 1 || posed) && origin.allFinite() &&
-      orientation.coeffs().allFinite() && orientation.norm() > 0.0f) {
-    SensorPose sensor;
-    sensor.origin = origin.head<3>().cast<double>() - data.frame.shift;
-    sensor.orientation = orientation.cast<double>().normalized();
-    sensor.width = blob.width;
-    sensor.height = blob.height;
-    data.sensor = sensor;
-  }
-  data.has_curvature = has_normals && fcurv != nullptr;
   auto& cloud = *data.cloud;
   cloud.resize(keep.size());
   const float nan = std::numeric_limits<float>::quiet_NaN();
   for (std::size_t j = 0; j < keep.size(); ++j) {
     const std::size_t i = keep[j];
     pcl::PointNormal& p = cloud[j];
-    p.x = static_cast<float>(value(i, fx) - shift.x());
-    p.y = static_cast<float>(value(i, fy) - shift.y());
-    p.z = static_cast<float>(value(i, fz) - shift.z());
-    const bool normal = has_normals && normal_ok(i);
+    p.x = static_cast<float>(g.value(i, g.x) - shift.x());
+    p.y = static_cast<float>(g.value(i, g.y) - shift.y());
+    p.z = static_cast<float>(g.value(i, g.z) - shift.z());
+    const bool normal = g.has_normals && g.normalOk(i);
     if (normal) {
-      p.normal_x = static_cast<float>(value(i, fnx));
-      p.normal_y = static_cast<float>(value(i, fny));
-      p.normal_z = static_cast<float>(value(i, fnz));
+      p.normal_x = static_cast<float>(g.value(i, g.nx));
+      p.normal_y = static_cast<float>(g.value(i, g.ny));
+      p.normal_z = static_cast<float>(g.value(i, g.nz));
     } else {
       p.normal_x = p.normal_y = p.normal_z = nan;
     }
-    p.curvature = data.has_curvature && normal ? static_cast<float>(value(i, fcurv)) : nan;
+    p.curvature = data.has_curvature && normal ? static_cast<float>(g.value(i, g.curvature)) : nan;
   }
   cloud.width = static_cast<std::uint32_t>(keep.size());
   cloud.height = 1;
   cloud.is_dense = true;
+}
 
-  // Carry every other scalar field through with its own type.
+/// Every other scalar field of the kept rows, with its own type, into data.extra; returns them.
+std::vector<const Field*> carryExtraFields(const pcl::PCLPointCloud2& blob,
+                                           const std::vector<std::size_t>& keep, PointData& data) {
   std::vector<const Field*> extra;
   for (const auto& f : blob.fields)
     if (!isGeometryField(f.name) && f.name != "_" && f.count == 1 && datatypeBytes(f.datatype) > 0)
@@ -423,11 +448,49 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
       std::memcpy(out.data.data() + j * out.point_step + out.fields[e].offset,
                   blob.data.data() + keep[j] * blob.point_step + extra[e]->offset,
                   datatypeBytes(extra[e]->datatype));
+  return extra;
+}
+
+}  // namespace
+
+PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report) {
+  const std::string where = "input '" + path + "': ";
+  detail::checkReadableFile(path, where, "a point cloud file");
+  std::error_code ec;
+  const std::string ext = lowerExtension(path);
+  if (ext != ".ply" && ext != ".pcd")
+    throw RunError(where + "unsupported file type '" + ext + "' (expected .ply or .pcd)");
+  if (fs::file_size(path, ec) == 0)
+    throw RunError(where + "the file is empty");
+  const ReadBlob read = readBlob(path, ext == ".ply", where);
+  const std::size_t n = read.points;
+  const GeometryFields g = geometryFields(read.blob, n, where);
+  std::size_t normals_missing = 0, first_missing_normal = 0;
+  const std::vector<std::size_t> keep =
+      keptRows(g, n, nan_policy, where, normals_missing, first_missing_normal);
+
+  PointData data;
+  data.has_normals = g.has_normals;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (const std::size_t i : keep) {
+    lo = lo.cwiseMin(g.point(i));
+    hi = hi.cwiseMax(g.point(i));
+  }
+  data.frame.double_coordinates = g.x->datatype == Field::FLOAT64 ||
+                                  g.y->datatype == Field::FLOAT64 ||
+                                  g.z->datatype == Field::FLOAT64;
+  if (data.frame.double_coordinates)
+    data.frame.shift = globalShift(lo, hi);
+  data.sensor = sensorPose(read, ext == ".pcd", data.frame.shift);
+  data.has_curvature = g.has_normals && g.curvature != nullptr;
+  fillCloud(g, keep, data);
+  const std::vector<const Field*> extra = carryExtraFields(read.blob, keep, data);
 
   if (report) {
     report->points_read = n;
     report->dropped = n - keep.size();
-    report->normals = has_normals;
+    report->normals = g.has_normals;
     report->normals_missing = normals_missing;
     report->largest_coordinate = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).maxCoeff();
     report->first_missing_normal = first_missing_normal;

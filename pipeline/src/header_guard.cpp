@@ -138,30 +138,47 @@ std::size_t plyTypeSize(const std::string& t) {
 
 }  // namespace
 
-void checkPlyHeader(const std::string& path, const std::string& where) {
-  u64 file_size = 0;
-  const std::string head = readHead(path, file_size);
-  if (head.size() < 4 || head.compare(0, 3, "ply") != 0)
-    throw RunError(where + "not a PLY file (it does not start with 'ply')");
+namespace {
 
-  // PCL reads three bytes of magic, skips one, then reads the header line by line.
+/// What checkPlyHeader reads off a PLY header, line by line as PCL's reader does.
+class PlyHeaderScan {
+ public:
+  PlyHeaderScan(const std::string& where, u64 file_size) : where_(where), file_size_(file_size) {}
+
+  /// Reads the header of \a head (the file's start); RunError naming the line for what PCL's
+  /// reader would crash on.
+  void scan(const std::string& head) {
+    // PCL reads three bytes of magic, skips one, then reads the header line by line.
+    std::size_t pos = 4;
+    while (header_end == 0) {
+      const std::size_t nl = head.find('\n', pos);
+      if (nl == std::string::npos)
+        throw RunError(where_ + "the PLY header has no end_header line" +
+                       (head.size() == kMaxHeaderBytes ? " in its first 1 MiB" : ""));
+      std::string line = head.substr(pos, nl - pos);
+      pos = nl + 1;
+      ++line_no_;
+      if (!line.empty() && line.back() == '\r')
+        line.pop_back();
+      if (takeLine(line))
+        header_end = pos;
+    }
+    if (format.empty())
+      throw RunError(where_ + "the PLY header has no format line");
+  }
+
   std::vector<PlyElement> elements;
   std::string format;
   u64 width = 0, height = 0;  // as PCL tracks them: obj_info num_cols / num_rows, then the vertex
-  std::size_t pos = 4, line_no = 1, header_end = 0;
-  auto fail = [&](const std::string& what) {
-    throw RunError(where + "PLY header line " + std::to_string(line_no) + ": " + what);
-  };
-  while (header_end == 0) {
-    const std::size_t nl = head.find('\n', pos);
-    if (nl == std::string::npos)
-      throw RunError(where + "the PLY header has no end_header line" +
-                     (head.size() == kMaxHeaderBytes ? " in its first 1 MiB" : ""));
-    std::string line = head.substr(pos, nl - pos);
-    pos = nl + 1;
-    ++line_no;
-    if (!line.empty() && line.back() == '\r')
-      line.pop_back();
+  std::size_t header_end = 0;
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw RunError(where_ + "PLY header line " + std::to_string(line_no_) + ": " + what);
+  }
+
+  /// One header line; true at end_header.
+  bool takeLine(const std::string& line) {
     if (std::any_of(line.begin(), line.end(), [](char c) {
           const auto u = static_cast<unsigned char>(c);
           return (u < 0x20 && c != '\t') || u == 0x7f;
@@ -169,7 +186,7 @@ void checkPlyHeader(const std::string& path, const std::string& where) {
       fail("contains a control character");
     const auto t = tokens(line, " \t");
     if (t.empty())
-      continue;  // PCL ignores blank lines
+      return false;  // PCL ignores blank lines
     if (line[0] == ' ' || line[0] == '\t')
       fail("starts with white space");  // PCL asserts on an indented obj_info line
     const std::string& keyword = t[0];
@@ -182,57 +199,84 @@ void checkPlyHeader(const std::string& path, const std::string& where) {
         fail("unsupported format '" + line + "'");
       format = t[1];
     } else if (keyword == "obj_info") {
-      // PCL splits this line keeping an empty last token after trailing blanks, so that
-      // "obj_info num_rows " sets the height to atoi("") = 0.
-      const auto st = splitKeepingEnds(line, " \t");
-      if (st.size() >= 3 && (st[1] == "num_cols" || st[1] == "num_rows")) {
-        u64 v = 0;
-        if (!parseCount(st[2], std::numeric_limits<std::int32_t>::max(), v) || v == 0)
-          fail("obj_info " + st[1] + " '" + st[2] + "' is not a positive count");
-        (st[1] == "num_cols" ? width : height) = v;
-      }
+      objInfo(line);
     } else if (keyword == "element") {
-      u64 count = 0;
-      if (t.size() != 3)
-        fail("malformed element line '" + line + "'");
-      if (!parseCount(t[2], file_size, count))
-        fail("'" + line + "' announces an impossible number of records for a file of " +
-             std::to_string(file_size) + " bytes");
-      for (const auto& e : elements)
-        if (e.name == t[1])
-          fail("a second '" + t[1] + "' element");
-      elements.push_back({t[1], count, {}});
-      if (t[1] == "vertex" && (width == 0 || height == 0)) {
-        width = count;
-        height = 1;
-      }
+      element(t, line);
     } else if (keyword == "property") {
-      if (elements.empty())
-        fail("a property before any element");
-      PlyElement& e = elements.back();
-      PlyProperty p;
-      if (t.size() == 3 && plyTypeSize(t[1]) > 0) {
-        p = {t[2], t[1], false, plyTypeSize(t[1])};
-      } else if (t.size() == 5 && t[1] == "list" && isUnsignedCountType(t[2]) &&
-                 plyTypeSize(t[3]) > 0) {
-        p = {t[4], t[3], true, plyTypeSize(t[2])};
-      } else {
-        fail("malformed property line '" + line + "'");
-      }
-      if (std::any_of(e.properties.begin(), e.properties.end(),
-                      [&](const PlyProperty& q) { return q.name == p.name; }))
-        fail("a second property '" + p.name + "' in element '" + e.name + "'");
-      if (p.list && e.name == "vertex")
-        fail("vertex property '" + p.name +
-             "' is a list; slipfit reads scalar vertex properties only");
-      e.properties.push_back(p);
+      property(t, line);
     } else if (keyword == "end_header") {
-      header_end = pos;
+      return true;
     }
     // comment lines, and unknown keywords that PCL ignores too
+    return false;
   }
-  if (format.empty())
-    throw RunError(where + "the PLY header has no format line");
+
+  void objInfo(const std::string& line) {
+    // PCL splits this line keeping an empty last token after trailing blanks, so that
+    // "obj_info num_rows " sets the height to atoi("") = 0.
+    const auto st = splitKeepingEnds(line, " \t");
+    if (st.size() >= 3 && (st[1] == "num_cols" || st[1] == "num_rows")) {
+      u64 v = 0;
+      if (!parseCount(st[2], std::numeric_limits<std::int32_t>::max(), v) || v == 0)
+        fail("obj_info " + st[1] + " '" + st[2] + "' is not a positive count");
+      (st[1] == "num_cols" ? width : height) = v;
+    }
+  }
+
+  void element(const std::vector<std::string>& t, const std::string& line) {
+    u64 count = 0;
+    if (t.size() != 3)
+      fail("malformed element line '" + line + "'");
+    if (!parseCount(t[2], file_size_, count))
+      fail("'" + line + "' announces an impossible number of records for a file of " +
+           std::to_string(file_size_) + " bytes");
+    for (const auto& e : elements)
+      if (e.name == t[1])
+        fail("a second '" + t[1] + "' element");
+    elements.push_back({t[1], count, {}});
+    if (t[1] == "vertex" && (width == 0 || height == 0)) {
+      width = count;
+      height = 1;
+    }
+  }
+
+  void property(const std::vector<std::string>& t, const std::string& line) {
+    if (elements.empty())
+      fail("a property before any element");
+    PlyElement& e = elements.back();
+    PlyProperty p;
+    if (t.size() == 3 && plyTypeSize(t[1]) > 0) {
+      p = {t[2], t[1], false, plyTypeSize(t[1])};
+    } else if (t.size() == 5 && t[1] == "list" && isUnsignedCountType(t[2]) &&
+               plyTypeSize(t[3]) > 0) {
+      p = {t[4], t[3], true, plyTypeSize(t[2])};
+    } else {
+      fail("malformed property line '" + line + "'");
+    }
+    if (std::any_of(e.properties.begin(), e.properties.end(),
+                    [&](const PlyProperty& q) { return q.name == p.name; }))
+      fail("a second property '" + p.name + "' in element '" + e.name + "'");
+    if (p.list && e.name == "vertex")
+      fail("vertex property '" + p.name +
+           "' is a list; slipfit reads scalar vertex properties only");
+    e.properties.push_back(p);
+  }
+
+  const std::string& where_;
+  u64 file_size_;
+  std::size_t line_no_ = 1;
+};
+
+}  // namespace
+
+void checkPlyHeader(const std::string& path, const std::string& where) {
+  u64 file_size = 0;
+  const std::string head = readHead(path, file_size);
+  if (head.size() < 4 || head.compare(0, 3, "ply") != 0)
+    throw RunError(where + "not a PLY file (it does not start with 'ply')");
+  PlyHeaderScan h(where, file_size);
+  h.scan(head);
+  const std::vector<PlyElement>& elements = h.elements;
   const auto vertex = std::find_if(elements.begin(), elements.end(),
                                    [](const PlyElement& e) { return e.name == "vertex"; });
   if (vertex == elements.end())
@@ -241,19 +285,19 @@ void checkPlyHeader(const std::string& path, const std::string& where) {
 
   // PCL sizes its buffer by num_cols × num_rows when both are given: that grid must be the vertex
   // element or, for organized clouds, the range_grid element that maps cells to vertices.
-  const u64 grid = width * height;
+  const u64 grid = h.width * h.height;
   if (grid != vertex->count) {
     const auto range = std::find_if(elements.begin(), elements.end(),
                                     [](const PlyElement& e) { return e.name == "range_grid"; });
     if (range == elements.end() || range->count != grid || grid < vertex->count)
-      throw RunError(where + "obj_info num_cols × num_rows (" + std::to_string(width) + " × " +
-                     std::to_string(height) + ") matches neither the vertex count (" +
+      throw RunError(where + "obj_info num_cols × num_rows (" + std::to_string(h.width) + " × " +
+                     std::to_string(h.height) + ") matches neither the vertex count (" +
                      std::to_string(vertex->count) + ") nor a range_grid element");
   }
 
   // Every record takes at least its scalars and list counts (binary) or one character and a
   // separator per value (ascii).
-  const bool ascii = format == "ascii";
+  const bool ascii = h.format == "ascii";
   u64 needed = 0;
   for (const auto& e : elements) {
     u64 record = 0;
@@ -263,7 +307,7 @@ void checkPlyHeader(const std::string& path, const std::string& where) {
       record = std::max<u64>(record, 1);  // a line, even for an element without properties
     needed = saturatingAdd(needed, saturatingMul(record, e.count));
   }
-  const u64 body = file_size - std::min<u64>(file_size, header_end);
+  const u64 body = file_size - std::min<u64>(file_size, h.header_end);
   if (needed > body + (ascii ? 1 : 0))
     throw RunError(where + "truncated: the header announces " + std::to_string(vertex->count) +
                    " vertices and at least " + std::to_string(needed) +

@@ -3,6 +3,7 @@
 /// every point, through one kd-tree build and one neighbor search per point.
 
 #include "slipfit/core/parameter_declaration.h"
+#include "slipfit/neighborhoods/depth_quantization.h"
 #include "slipfit/neighborhoods/neighborhoods.h"
 
 #include <pcl/pcl_base.h>
@@ -145,6 +146,23 @@ class NeighborhoodSelection : public pcl::PCLBase<PointT> {
   using pcl::PCLBase<PointT>::indices_;
 
  private:
+  /// The checks of compute() on the input; the queried points (1 for each index).
+  std::vector<char> checkInput();
+  /// The search structure, built on the input unless it already is.
+  void prepareSearch();
+  /// knn with span_quantization: the coordinate recorded on levels, if any.
+  QuantizedAxis detectLattice() const;
+  /// Radius mode: the most entries one list may hold (the memory budget, or max_neighbors);
+  /// throws InvalidParameterError when a look at 256 points shows the radius is too large.
+  std::size_t radiusCap();
+  /// The neighbors of point \a i into \a ind and \a d (sorted) by the mode; sets
+  /// \a over_budget when a radius list reached \a radius_cap; counts a widened list.
+  void query(std::size_t i, const QuantizedAxis& lattice, std::size_t radius_cap,
+             Eigen::Matrix3Xf& local, pcl::Indices& ind, std::vector<float>& d, bool& over_budget,
+             std::size_t& widened) const;
+  /// The sizes of \a output into statistics_.
+  void summarise(const Neighborhoods& output, std::size_t queries);
+
   NeighborhoodParameters parameters_;
   SearchPtr search_;
   NeighborhoodStatistics statistics_;

@@ -47,20 +47,29 @@ inline std::string radiusTooLarge(double radius, std::size_t cap, std::size_t po
 }
 }  // namespace detail
 
+namespace detail {
+// knn on a quantized axis: a list whose k nearest lie within this many local steps is widened to
+// every point within them, at most kWidenCap k points chosen from at most kSearchCap k.
+constexpr double kSpanSteps = 1.5;
+constexpr int kWidenCap = 8;
+constexpr int kSearchCap = 64;
+// Radius lists are bounded so that the memory cannot run away with a radius that covers much of
+// the cloud: at most kMaxEntries entries in all (8 bytes each: 4 GB).
+constexpr std::size_t kMaxEntries = std::size_t{1} << 29;
+}  // namespace detail
+
 template <typename PointT>
-void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
+std::vector<char> NeighborhoodSelection<PointT>::checkInput() {
   parameters_.validate();
   if (!input_ || input_->empty())
     throw DegenerateInputError("neighborhood selection: the input cloud is empty");
   if (!this->initCompute())
     throw DegenerateInputError("neighborhood selection: the indices do not fit the input cloud");
-
   const auto& cloud = *input_;
   const std::size_t n = cloud.size();
   std::vector<char> queried(n, 0);
   for (const auto i : *indices_)
     queried[static_cast<std::size_t>(i)] = 1;
-
   std::size_t finite = 0;
   for (const auto& p : cloud.points)
     finite += pcl::isFinite(p) ? 1 : 0;
@@ -73,8 +82,11 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
     this->deinitCompute();
     throw DegenerateInputError("neighborhood selection: fewer than two finite points in the cloud");
   }
+  return queried;
+}
 
-  statistics_ = NeighborhoodStatistics{};
+template <typename PointT>
+void NeighborhoodSelection<PointT>::prepareSearch() {
   if (!search_)
     search_.reset(new pcl::search::KdTree<PointT>(true));
   search_->setSortedResults(true);
@@ -82,62 +94,147 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
     search_->setInputCloud(input_);
     statistics_.tree_builds = 1;
   }
+}
 
+template <typename PointT>
+QuantizedAxis NeighborhoodSelection<PointT>::detectLattice() const {
   const NeighborhoodParameters& par = parameters_;
-  QuantizedAxis lattice;
+  if (!(par.span_quantization && par.mode == NeighborhoodMode::knn))
+    return {};
+  const auto& cloud = *input_;
+  Eigen::Matrix3Xd xyz(3, static_cast<Eigen::Index>(cloud.size()));
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    xyz.col(static_cast<Eigen::Index>(i)) = cloud[i].getVector3fMap().template cast<double>();
+  return detectQuantizedAxis(xyz);
+}
+
+template <typename PointT>
+std::size_t NeighborhoodSelection<PointT>::radiusCap() {
+  const NeighborhoodParameters& par = parameters_;
+  // Per point the budget over the queried points (or max_neighbors, if smaller). A list that
+  // reaches the bound ends the run with an error that says so, rather than a partial neighborhood
+  // or an allocation failure.
+  const std::size_t m = indices_->size();
+  const std::size_t budget = detail::kMaxEntries / std::max<std::size_t>(1, m);
+  std::size_t cap = par.max_neighbors ? std::min<std::size_t>(budget, *par.max_neighbors) : budget;
+  cap = std::max<std::size_t>(cap, 1);
+  // A look at 256 evenly spread points first: a radius that covers much of the cloud is told
+  // before any list is built (their mean count, times the points, must fit the budget too).
+  const auto& cloud = *input_;
+  const std::size_t stride = std::max<std::size_t>(1, m / 256);
+  std::size_t seen = 0, found = 0;
+  bool over_budget = false;
+  pcl::Indices ind;
+  std::vector<float> d;
+  for (std::size_t k = 0; k < m; k += stride) {
+    const pcl::index_t index = (*indices_)[k];
+    if (!pcl::isFinite(cloud[static_cast<std::size_t>(index)]))
+      continue;
+    search_->radiusSearch(cloud, index, *par.radius, ind, d, static_cast<unsigned>(cap + 1));
+    ++seen;
+    found += std::min(ind.size(), cap);
+    over_budget = over_budget || (ind.size() > cap &&
+                                  !(par.max_neighbors && cap == std::size_t(*par.max_neighbors)));
+  }
+  if (over_budget || (seen > 0 && found / seen * m > detail::kMaxEntries)) {
+    this->deinitCompute();
+    throw InvalidParameterError(detail::radiusTooLarge(*par.radius, cap, m));
+  }
+  return cap;
+}
+
+template <typename PointT>
+void NeighborhoodSelection<PointT>::query(std::size_t i, const QuantizedAxis& lattice,
+                                          std::size_t radius_cap, Eigen::Matrix3Xf& local,
+                                          pcl::Indices& ind, std::vector<float>& d,
+                                          bool& over_budget, std::size_t& widened) const {
+  const NeighborhoodParameters& par = parameters_;
+  const auto& cloud = *input_;
+  const auto index = static_cast<pcl::index_t>(i);
+  switch (par.mode) {
+    case NeighborhoodMode::knn: {
+      search_->nearestKSearch(cloud, index, par.k, ind, d);
+      if (!lattice.detected() || d.empty())
+        break;
+      const double span =
+          detail::kSpanSteps * lattice.stepAt(static_cast<double>(cloud[i].data[lattice.axis]));
+      if (static_cast<double>(d.back()) < span * span) {
+        search_->radiusSearch(cloud, index, span, ind, d,
+                              static_cast<unsigned>(detail::kSearchCap * par.k));
+        thinWidened(ind, d, static_cast<std::size_t>(par.k),
+                    static_cast<std::size_t>(detail::kWidenCap * par.k));
+        ++widened;
+      }
+      break;
+    }
+    case NeighborhoodMode::radius: {
+      // One beyond the cap tells a full list from one that reached it (unless the cap is
+      // max_neighbors itself: then the nearest max_neighbors are what was asked for).
+      const bool capped_by_user =
+          par.max_neighbors && radius_cap == static_cast<std::size_t>(*par.max_neighbors);
+      search_->radiusSearch(cloud, index, *par.radius, ind, d,
+                            static_cast<unsigned>(radius_cap + (capped_by_user ? 0 : 1)));
+      if (!capped_by_user && ind.size() > radius_cap) {
+#pragma omp atomic write
+        over_budget = true;
+        ind.resize(radius_cap);
+        d.resize(radius_cap);
+      }
+      break;
+    }
+    case NeighborhoodMode::hybrid: {
+      search_->nearestKSearch(cloud, index, par.k, ind, d);
+      const float r2 = static_cast<float>(*par.radius * *par.radius);
+      const auto cut = std::upper_bound(d.begin(), d.end(), r2) - d.begin();
+      ind.resize(cut);
+      d.resize(cut);
+      break;
+    }
+    case NeighborhoodMode::adaptive: {
+      search_->nearestKSearch(cloud, index, par.k_max, ind, d);
+      local.resize(3, static_cast<Eigen::Index>(ind.size()));
+      for (std::size_t j = 0; j < ind.size(); ++j)
+        local.col(j) = cloud[ind[j]].getVector3fMap();
+      const int k = optimalNeighborhoodSize(local, par.k_min, par.k_max, par.k_step);
+      ind.resize(k);
+      d.resize(k);
+      break;
+    }
+  }
+}
+
+template <typename PointT>
+void NeighborhoodSelection<PointT>::summarise(const Neighborhoods& output, std::size_t queries) {
+  std::size_t total = 0, lo = std::numeric_limits<std::size_t>::max(), hi = 0;
+  for (std::size_t i = 0; i < output.size(); ++i) {
+    const std::size_t s = output[i].size();
+    if (s == 0)
+      continue;
+    total += s;
+    lo = std::min(lo, s);
+    hi = std::max(hi, s);
+  }
+  statistics_.min_size = hi == 0 ? 0 : lo;
+  statistics_.max_size = hi;
+  statistics_.mean_size = queries ? static_cast<double>(total) / static_cast<double>(queries) : 0.0;
+}
+
+template <typename PointT>
+void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
+  const std::vector<char> queried = checkInput();
+  const auto& cloud = *input_;
+  const std::size_t n = cloud.size();
+  const NeighborhoodParameters& par = parameters_;
+  statistics_ = NeighborhoodStatistics{};
+  prepareSearch();
+  const QuantizedAxis lattice = detectLattice();
   if (par.span_quantization && par.mode == NeighborhoodMode::knn) {
-    Eigen::Matrix3Xd xyz(3, static_cast<Eigen::Index>(n));
-    for (std::size_t i = 0; i < n; ++i)
-      xyz.col(static_cast<Eigen::Index>(i)) = cloud[i].getVector3fMap().template cast<double>();
-    lattice = detectQuantizedAxis(xyz);
     statistics_.quantized_axis = lattice.axis;
     statistics_.min_step = lattice.minStep();
     statistics_.max_step = lattice.maxStep();
   }
-  constexpr double kSpanSteps = 1.5;
-  constexpr int kWidenCap = 8;    // a widened list holds at most 8 k points ...
-  constexpr int kSearchCap = 64;  // ... chosen from at most 64 k within the span
+  const std::size_t radius_cap = par.mode == NeighborhoodMode::radius ? radiusCap() : 0;
   const int k_query = par.mode == NeighborhoodMode::adaptive ? par.k_max : par.k;
-  const float r2 = par.radius ? static_cast<float>(*par.radius * *par.radius) : 0.0f;
-
-  // Radius lists are bounded so that the memory cannot run away with a radius that covers much of
-  // the cloud: at most kMaxEntries entries in all (8 bytes each: 4 GB), so per point the budget
-  // over the queried points (or max_neighbors, if smaller). A list that reaches the bound ends the
-  // run with an error that says so, rather than a partial neighborhood or an allocation failure.
-  constexpr std::size_t kMaxEntries = std::size_t{1} << 29;
-  std::size_t radius_cap = 0;
-  if (par.mode == NeighborhoodMode::radius) {
-    const std::size_t budget = kMaxEntries / std::max<std::size_t>(1, indices_->size());
-    radius_cap = par.max_neighbors ? std::min<std::size_t>(budget, *par.max_neighbors) : budget;
-    radius_cap = std::max<std::size_t>(radius_cap, 1);
-  }
-  bool over_budget = false;
-  std::string failure;
-  if (par.mode == NeighborhoodMode::radius) {
-    // A look at 256 evenly spread points first: a radius that covers much of the cloud is told
-    // before any list is built (their mean count, times the points, must fit the budget too).
-    const std::size_t m = indices_->size(), stride = std::max<std::size_t>(1, m / 256);
-    std::size_t seen = 0, found = 0;
-    pcl::Indices ind;
-    std::vector<float> d;
-    for (std::size_t k = 0; k < m; k += stride) {
-      const pcl::index_t index = (*indices_)[k];
-      if (!pcl::isFinite(cloud[static_cast<std::size_t>(index)]))
-        continue;
-      search_->radiusSearch(cloud, index, *par.radius, ind, d,
-                            static_cast<unsigned>(radius_cap + 1));
-      ++seen;
-      found += std::min(ind.size(), radius_cap);
-      over_budget =
-          over_budget || (ind.size() > radius_cap &&
-                          !(par.max_neighbors && radius_cap == std::size_t(*par.max_neighbors)));
-    }
-    if (over_budget || (seen > 0 && found / seen * m > kMaxEntries)) {
-      this->deinitCompute();
-      throw InvalidParameterError(detail::radiusTooLarge(*par.radius, radius_cap, m));
-    }
-  }
-
   output.clear();
   output.reserve(
       n, par.mode == NeighborhoodMode::radius ? n * 16 : n * static_cast<std::size_t>(k_query));
@@ -148,8 +245,9 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
   std::vector<pcl::Indices> chunk_indices(std::min(kChunk, n));
   std::vector<std::vector<float>> chunk_dists(std::min(kChunk, n));
   std::size_t queries = 0, skipped = 0, widened = 0;
+  bool over_budget = false;
+  std::string failure;
   const int threads = resolveThreads(par.threads);
-
   for (std::size_t begin = 0; begin < n; begin += kChunk) {
     const std::size_t end = std::min(n, begin + kChunk);
 #pragma omp parallel num_threads(threads) reduction(+ : queries, skipped, widened)
@@ -171,56 +269,7 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
             continue;
           }
           ++queries;
-          const auto index = static_cast<pcl::index_t>(i);
-          switch (par.mode) {
-            case NeighborhoodMode::knn: {
-              search_->nearestKSearch(cloud, index, par.k, ind, d);
-              if (!lattice.detected() || d.empty())
-                break;
-              const double span =
-                  kSpanSteps * lattice.stepAt(static_cast<double>(cloud[i].data[lattice.axis]));
-              if (static_cast<double>(d.back()) < span * span) {
-                search_->radiusSearch(cloud, index, span, ind, d,
-                                      static_cast<unsigned>(kSearchCap * par.k));
-                thinWidened(ind, d, static_cast<std::size_t>(par.k),
-                            static_cast<std::size_t>(kWidenCap * par.k));
-                ++widened;
-              }
-              break;
-            }
-            case NeighborhoodMode::radius: {
-              // One beyond the cap tells a full list from one that reached it (unless the cap is
-              // max_neighbors itself: then the nearest max_neighbors are what was asked for).
-              const bool capped_by_user =
-                  par.max_neighbors && radius_cap == static_cast<std::size_t>(*par.max_neighbors);
-              search_->radiusSearch(cloud, index, *par.radius, ind, d,
-                                    static_cast<unsigned>(radius_cap + (capped_by_user ? 0 : 1)));
-              if (!capped_by_user && ind.size() > radius_cap) {
-#pragma omp atomic write
-                over_budget = true;
-                ind.resize(radius_cap);
-                d.resize(radius_cap);
-              }
-              break;
-            }
-            case NeighborhoodMode::hybrid: {
-              search_->nearestKSearch(cloud, index, par.k, ind, d);
-              const auto cut = std::upper_bound(d.begin(), d.end(), r2) - d.begin();
-              ind.resize(cut);
-              d.resize(cut);
-              break;
-            }
-            case NeighborhoodMode::adaptive: {
-              search_->nearestKSearch(cloud, index, par.k_max, ind, d);
-              local.resize(3, static_cast<Eigen::Index>(ind.size()));
-              for (std::size_t j = 0; j < ind.size(); ++j)
-                local.col(j) = cloud[ind[j]].getVector3fMap();
-              const int k = optimalNeighborhoodSize(local, par.k_min, par.k_max, par.k_step);
-              ind.resize(k);
-              d.resize(k);
-              break;
-            }
-          }
+          query(i, lattice, radius_cap, local, ind, d, over_budget, widened);
         } catch (const std::exception& e) {
           // No exception may leave an OpenMP region (std::terminate): the first is kept and thrown
           // after it.
@@ -242,22 +291,10 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
       output.append(chunk_indices[i - begin].data(), chunk_dists[i - begin].data(),
                     chunk_indices[i - begin].size());
   }
-
   statistics_.queries = queries;
   statistics_.skipped_nonfinite = skipped;
   statistics_.widened = widened;
-  std::size_t total = 0, lo = std::numeric_limits<std::size_t>::max(), hi = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t s = output[i].size();
-    if (s == 0)
-      continue;
-    total += s;
-    lo = std::min(lo, s);
-    hi = std::max(hi, s);
-  }
-  statistics_.min_size = hi == 0 ? 0 : lo;
-  statistics_.max_size = hi;
-  statistics_.mean_size = queries ? static_cast<double>(total) / static_cast<double>(queries) : 0.0;
+  summarise(output, queries);
   this->deinitCompute();
 }
 
