@@ -6,6 +6,7 @@
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/progress.h"
+#include "slipfit/pipeline/tile_roles.h"
 
 #include "tiling/tile_job.h"
 #include "tiling/tile_merge.h"
@@ -60,100 +61,165 @@ void writeAtomically(const std::string& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
-/// The segmentation stage the tiles end with; ConfigError when the pipeline cannot be tiled.
-const ConfiguredStage& tiledSegmentation(const PipelineConfig& config) {
+/// The stage the tiles end with, whose segments are joined across tiles; ConfigError when the
+/// pipeline cannot be tiled.
+JoinedAcrossTiles& joinedStage(const PipelineConfig& config) {
   const std::string why = config.path + ": section 'tiling': ";
   if (config.input.path.empty())
     throw ConfigError(why + "a tiled run reads an input cloud; this config has none");
-  if (config.stages.empty() || config.stages.back().type != "segmentation")
+  auto* joined = config.stages.empty()
+                     ? nullptr
+                     : dynamic_cast<JoinedAcrossTiles*>(config.stages.back().stage.get());
+  if (!joined)
     throw ConfigError(why + "a tiled run ends with a segmentation stage (its segments are " +
                       "joined across tiles); the last stage here is '" +
                       (config.stages.empty() ? "none" : config.stages.back().type) + "'");
   if (!config.output.cloud.empty())
     throw ConfigError(why + "output.cloud is not written by a tiled run; set it to ''");
-  return config.stages.back();
+  return *joined;
 }
 
-/// A subsample stage's `points` is a budget for the whole cloud. In voxel mode the tiles all use
+/// A sampling stage's `points` is a budget for the whole cloud. In voxel mode the tiles all use
 /// the leaf the untiled run would choose (voxelLeafForTarget, each tile counting the voxels whose
-/// corner lies in its core: the counts add up to the whole cloud's), so that every tile is
-/// analysed at the untiled run's voxels; in random mode each tile gets its share of the budget.
-/// A given `leaf` is kept as it is. Returns, per subsample stage, the override for every tile
-/// ("TAG.leaf=L") or a budget to scale by the tile's share (TAG, points).
-struct AnalysisBudgets {
-  std::vector<std::string> every_tile;
-  std::vector<std::pair<std::string, double>> shares;
-  std::vector<std::string> forTile(std::uint64_t tile_points, std::uint64_t cloud_points) const {
-    std::vector<std::string> o = every_tile;
-    for (const auto& [tag, whole] : shares) {
-      const double share = whole * static_cast<double>(tile_points) /
+/// corner lies in its core: the counts add up to the whole cloud's) and its grid's origin, so
+/// that every tile is analysed at the untiled run's voxels; in random mode each tile gets its
+/// share of the budget. A given `leaf` is kept as it is.
+struct TileSampling {
+  std::size_t stage = 0;  ///< its place in the pipeline
+  std::string tag;
+  std::optional<double> leaf;             ///< every tile's, when chosen here
+  std::optional<Eigen::Vector3d> origin;  ///< every tile's, when chosen here
+  std::optional<std::size_t> points;      ///< every tile's, when chosen here
+  std::optional<double> share_of;         ///< random mode: the whole cloud's budget, shared
+
+  /// The stage's sampling in a tile of \a tile_points of \a cloud_points.
+  SubsampleParameters forTile(SubsampleParameters p, std::uint64_t tile_points,
+                              std::uint64_t cloud_points) const {
+    if (leaf)
+      p.leaf = leaf;
+    if (origin)
+      p.origin = origin;
+    if (points)
+      p.points = *points;
+    if (share_of) {
+      const double share = *share_of * static_cast<double>(tile_points) /
                            static_cast<double>(std::max<std::uint64_t>(cloud_points, 1));
-      o.push_back(tag + ".points=" +
-                  std::to_string(static_cast<std::uint64_t>(std::max(100.0, std::ceil(share)))));
+      p.points = static_cast<std::size_t>(std::max(100.0, std::ceil(share)));
     }
-    return o;
+    return p;
+  }
+  /// The report's words for what every tile is given ("sample.leaf=0.0157183"), one a line.
+  std::vector<std::string> described() const {
+    std::vector<std::string> lines;
+    std::ostringstream o;
+    if (origin) {
+      o << std::setprecision(17) << tag << ".origin=[" << origin->x() << ", " << origin->y() << ", "
+        << origin->z() << "]";
+      lines.push_back(o.str());
+    }
+    if (leaf) {
+      o.str("");
+      o << std::setprecision(17) << tag << ".leaf=" << *leaf;
+      lines.push_back(o.str());
+    }
+    if (points)
+      lines.push_back(tag + ".points=" + std::to_string(*points));
+    return lines;
   }
 };
 
-/// With \a count false only the shares (the every-tile overrides come from the leader).
-AnalysisBudgets analysisBudgets(const PipelineConfig& config, const TilingManifest& manifest,
-                                const TileGrid& grid, const std::string& tiles_dir, bool count) {
-  AnalysisBudgets budgets;
-  for (const ConfiguredStage& s : config.stages) {
-    if (s.type != "subsample")
+/// The sampling stages of \a config (SampledAnalysis), each with what the tiles are given. With
+/// \a count false, only what needs no count of the tiles' voxels (the random mode's shares).
+std::vector<TileSampling> tileSamplings(const PipelineConfig& config,
+                                        const TilingManifest& manifest, const TileGrid& grid,
+                                        const std::string& tiles_dir, bool count) {
+  std::vector<TileSampling> samplings;
+  for (std::size_t k = 0; k < config.stages.size(); ++k) {
+    const auto* sampled = dynamic_cast<const SampledAnalysis*>(config.stages[k].stage.get());
+    if (!sampled)
       continue;
-    OptionSet options;  // declared anew: each option's "default" is its configured value
-    s.stage->declare(options);
-    const Option* points = options.find("points");
-    const Option* mode = options.find("mode");
-    const Option* leaf = options.find("leaf");
-    const Option* origin_option = options.find("origin");
-    if (!points || !mode || !leaf || !origin_option)
-      continue;
-    const double whole = std::stod(points->defaultText());
-    if (mode->defaultText() != "voxel") {
-      if (leaf->defaultText() == "unset")
-        budgets.shares.emplace_back(s.tag, whole);
+    const SubsampleParameters& p = sampled->sampling();
+    TileSampling t;
+    t.stage = k;
+    t.tag = config.stages[k].tag;
+    const double whole = static_cast<double>(p.points);
+    if (p.mode != SubsampleMode::voxel) {
+      if (!p.leaf)
+        t.share_of = whole;
+      samplings.push_back(t);
       continue;
     }
-    if (!count)
+    if (!count) {
+      samplings.push_back(t);
       continue;
+    }
     // The untiled run's grid: its lowest corner as the voxels' origin, unless one is given.
     const Eigen::Vector3d origin(manifest.lo[0], manifest.lo[1], manifest.lo[2]);
-    std::ostringstream o;
-    o << std::setprecision(17);
-    if (origin_option->defaultText() == "unset") {
-      o << s.tag << ".origin=[" << origin.x() << ", " << origin.y() << ", " << origin.z() << "]";
-      budgets.every_tile.push_back(o.str());
-      o.str("");
-    }
-    if (leaf->defaultText() != "unset")
+    if (!p.origin)
+      t.origin = origin;
+    if (p.leaf || whole >= static_cast<double>(manifest.points)) {
+      if (!p.leaf)
+        t.points = manifest.points;  // untiled, every point is analysed: so in every tile
+      samplings.push_back(t);
       continue;  // a given leaf is every tile's
-    if (whole >= static_cast<double>(manifest.points)) {
-      budgets.every_tile.push_back(s.tag + ".points=" + std::to_string(manifest.points));
-      continue;  // untiled, every point is analysed: so in every tile
     }
     // The untiled run's leaf search: its box (sizes in float, as the stage sees float coordinates).
     Eigen::Vector3d sizes;
     for (int a = 0; a < 3; ++a)
       sizes[a] = static_cast<double>(static_cast<float>(manifest.hi[a]) -
                                      static_cast<float>(manifest.lo[a]));
-    const double chosen = voxelLeafForTarget(sizes, static_cast<std::size_t>(whole), [&](double l) {
+    t.leaf = voxelLeafForTarget(sizes, p.points, [&](double l) {
       std::size_t n = 0;
-      for (const TileInfo& t : manifest.tiles) {
-        CloudStream in(tiles_dir + "/" + t.name() + ".ply");
+      for (const TileInfo& tile : manifest.tiles) {
+        CloudStream in(tiles_dir + "/" + tile.name() + ".ply");
         Eigen::Matrix3Xd xyz;
         in.read(0, in.size(), xyz);
         n += occupiedVoxels(xyz, l, origin, [&](const Eigen::Vector3d& corner) {
-          return grid.owner(corner.x(), corner.y()) == t.key;
+          return grid.owner(corner.x(), corner.y()) == tile.key;
         });
       }
       return n;
     });
-    o << s.tag << ".leaf=" << chosen;
-    budgets.every_tile.push_back(o.str());
+    samplings.push_back(t);
   }
-  return budgets;
+  return samplings;
+}
+
+/// The tiles' samplings as a cache file (the leaf search reads every tile a few times).
+std::string samplingsText(const std::vector<TileSampling>& samplings) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginSeq;
+  for (const TileSampling& t : samplings) {
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "stage" << YAML::Value << t.stage;
+    if (t.leaf)
+      out << YAML::Key << "leaf" << YAML::Value << *t.leaf;
+    if (t.origin)
+      out << YAML::Key << "origin" << YAML::Value << YAML::Flow << YAML::BeginSeq << t.origin->x()
+          << t.origin->y() << t.origin->z() << YAML::EndSeq;
+    if (t.points)
+      out << YAML::Key << "points" << YAML::Value << *t.points;
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  return std::string(out.c_str()) + "\n";
+}
+
+/// Reads back what samplingsText wrote into \a samplings (matched by stage).
+void readSamplings(const std::string& text, std::vector<TileSampling>& samplings) {
+  const YAML::Node list = YAML::Load(text);
+  for (const YAML::Node& entry : list)
+    for (TileSampling& t : samplings) {
+      if (t.stage != entry["stage"].as<std::size_t>())
+        continue;
+      if (entry["leaf"])
+        t.leaf = entry["leaf"].as<double>();
+      if (entry["origin"])
+        t.origin = Eigen::Vector3d(entry["origin"][0].as<double>(), entry["origin"][1].as<double>(),
+                                   entry["origin"][2].as<double>());
+      if (entry["points"])
+        t.points = entry["points"].as<std::size_t>();
+    }
 }
 
 /// What the tile runs compute from: every stage's options as configured (declared anew: each
@@ -172,26 +238,6 @@ std::string effectiveConfig(const PipelineConfig& config) {
     text << "\n";
   }
   return text.str();
-}
-
-/// The segmentation stage's picture, as configured (its options declared anew: each option's
-/// "default" is its configured value); nullopt when it writes none.
-std::optional<RenderRequest> renderRequest(const ConfiguredStage& segmentation) {
-  OptionSet configured;
-  segmentation.stage->declare(configured);
-  const Option* name = configured.find("render");
-  if (!name || name->defaultText().empty())
-    return std::nullopt;
-  RenderRequest request;
-  request.name = name->defaultText();
-  OptionSet camera;
-  camera.bind(request.camera);
-  for (const auto& option : camera.all()) {
-    const Option* given = configured.find(option->name());
-    if (given && given->defaultText() != "unset")
-      option->parse(YAML::Load(given->defaultText()));
-  }
-  return request;
 }
 
 /// The work directory, checked to be empty or a tiling's own (its manifest.yaml).
@@ -213,7 +259,7 @@ std::string workDirectory(const PipelineConfig& config) {
 std::vector<std::string> runTiled(const PipelineConfig& config,
                                   const std::vector<std::string>& overrides,
                                   const RunOptions& options, std::ostream& report_stream) {
-  const ConfiguredStage& segmentation = tiledSegmentation(config);
+  JoinedAcrossTiles& joined = joinedStage(config);
   checkConfigFiles(config);
   WorkDistribution work;  // one process, or the ranks of mpirun
   NullBuffer null_buffer;
@@ -273,26 +319,29 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
     readManifest(manifest_path, manifest);
 
   // The analysis density of the untiled run, in every tile.
-  AnalysisBudgets budgets;
+  std::vector<TileSampling> samplings;
   failure.clear();
   if (work.leader()) {
     try {
       std::string fingerprint = effectiveConfig(config);
       // The leaf search reads every tile a few times: its result is kept for reruns of this
       // config on these tiles (the file goes with the tiles when they are written anew).
-      const std::string cache = dir + "/analysis", key = fingerprint + "\n--\n";
+      const std::string cache = dir + "/analysis", key = fingerprint + "\n--\nsamplings 2\n";
       std::string text = readText(cache);
+      bool cached = false;
       if (text.rfind(key, 0) == 0) {
-        text = text.substr(key.size());
-        std::istringstream lines(text);
-        budgets.shares = analysisBudgets(config, manifest, grid, tiles_dir, false).shares;
-        for (std::string line; std::getline(lines, line);)
-          budgets.every_tile.push_back(line);
-      } else {
-        budgets = analysisBudgets(config, manifest, grid, tiles_dir, true);
-        text.clear();
-        for (const auto& o : budgets.every_tile)
-          text += o + "\n";
+        try {
+          text = text.substr(key.size());
+          samplings = tileSamplings(config, manifest, grid, tiles_dir, false);
+          readSamplings(text, samplings);
+          cached = true;
+        } catch (const YAML::Exception&) {
+          // a damaged cache: counted again below
+        }
+      }
+      if (!cached) {
+        samplings = tileSamplings(config, manifest, grid, tiles_dir, true);
+        text = samplingsText(samplings);
         writeAtomically(cache, key + text);
       }
       // Runs of another config (or another analysis density) are not reused.
@@ -304,18 +353,17 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
         writeAtomically(runs_dir + "/config", fingerprint);
       }
       writeAtomically(runs_dir + "/analysis", text);
-      for (const auto& o : budgets.every_tile)
-        report << "tiling: every tile analysed with " << o << " (as untiled)\n";
+      for (const TileSampling& t : samplings)
+        for (const std::string& line : t.described())
+          report << "tiling: every tile analysed with " << line << " (as untiled)\n";
     } catch (const std::exception& e) {
       failure = e.what();
     }
   }
   work.shareFailure(failure);
   if (!work.leader()) {  // the leader's choice, read back (no second count)
-    std::istringstream lines(readText(runs_dir + "/analysis"));
-    for (std::string line; std::getline(lines, line);)
-      budgets.every_tile.push_back(line);
-    budgets.shares = analysisBudgets(config, manifest, grid, tiles_dir, false).shares;
+    samplings = tileSamplings(config, manifest, grid, tiles_dir, false);
+    readSamplings(readText(runs_dir + "/analysis"), samplings);
   }
 
   // 2. The tiles' runs: the unchanged pipeline on each tile, its report in the tile's directory.
@@ -329,13 +377,9 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   const int threads = resolveThreads(config.settings.threads);
   const int workers =
       static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(threads, to_run)));
-  std::vector<std::string> tile_overrides = overrides;
-  tile_overrides.push_back("tiling.size=0");
-  tile_overrides.push_back("output.cloud=''");
-  tile_overrides.push_back(segmentation.tag + ".render=''");
-  tile_overrides.push_back("threads=" + std::to_string(std::max(1, threads / workers)));
-  const std::vector<std::string> names = segmentation.stage->outputFiles();  // report, segments
-  const std::string report_name = names.at(0), segments_name = names.at(1);
+  const int tile_threads = std::max(1, threads / workers);
+  const JoinedAcrossTiles::Files files = joined.joinedFiles();
+  const std::string report_name = files.report, segments_name = files.segments;
   std::atomic<std::size_t> ran{0};
   std::mutex progress_mutex;
   failure.clear();
@@ -346,12 +390,19 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       if (tileDone(run_dir))
         return;
       const auto tile_start = std::chrono::steady_clock::now();
-      std::vector<std::string> o = tile_overrides;
-      for (const std::string& budget : budgets.forTile(tile.points, manifest.points))
-        o.push_back(budget);
-      o.push_back("input.path=" + tiles_dir + "/" + tile.name() + ".ply");
-      o.push_back("output.dir=" + run_dir);
-      PipelineConfig tile_config = loadConfig(config.path, o);
+      // The pipeline as configured (the user's overrides included), on the tile: its input and
+      // output, no output cloud, no picture, its share of the threads, the untiled sampling.
+      PipelineConfig tile_config = loadConfig(config.path, overrides);
+      tile_config.input.path = tiles_dir + "/" + tile.name() + ".ply";
+      tile_config.output.dir = run_dir;
+      tile_config.output.cloud.clear();
+      tile_config.tiling.size = 0.0;
+      tile_config.settings.threads = tile_threads;
+      dynamic_cast<JoinedAcrossTiles&>(*tile_config.stages.back().stage).dropPicture();
+      for (const TileSampling& sampling : samplings) {
+        auto& stage = dynamic_cast<SampledAnalysis&>(*tile_config.stages[sampling.stage].stage);
+        stage.setSampling(sampling.forTile(stage.sampling(), tile.points, manifest.points));
+      }
       RunOptions quiet;
       quiet.quiet = true;
       quiet.final_outputs = false;  // a tile's outputs are not the run's
@@ -387,7 +438,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       progress.begin(3, 3, "merge " + std::to_string(manifest.tiles.size()) + " tiles");
       OutputFiles outputs(config.output.dir);
       outputs.protect(config.input.path);
-      const std::optional<RenderRequest> render = renderRequest(segmentation);
+      const std::optional<RenderRequest> render = joined.picture();
       const MergeSummary s = mergeTiles(manifest, runs_dir, segments_name, report_name,
                                         render ? &*render : nullptr, threads, outputs);
       written = outputs.commit();

@@ -6,6 +6,7 @@
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
+#include "slipfit/pipeline/tile_roles.h"
 #include "slipfit/render/segment_palette.h"
 #include "slipfit/render/splat_renderer.h"
 #include "slipfit/segmentation/segmentation.h"
@@ -27,7 +28,7 @@ Eigen::Vector3d pointAt(const pcl::PointCloud<pcl::PointNormal>& cloud, int i) {
   return cloud[static_cast<std::size_t>(i)].getVector3fMap().cast<double>();
 }
 
-class SegmentationStage : public Stage {
+class SegmentationStage : public Stage, public JoinedAcrossTiles {
  public:
   void declare(OptionSet& o) override {
     o.bind(parameters_);
@@ -57,6 +58,14 @@ class SegmentationStage : public Stage {
       names.push_back(render_);
     return names;
   }
+
+  Files joinedFiles() const override { return {report_, segments_}; }
+  std::optional<RenderRequest> picture() const override {
+    if (render_.empty())
+      return std::nullopt;
+    return RenderRequest{render_, render_parameters_};
+  }
+  void dropPicture() override { render_.clear(); }
 
   void run(PointData& data, RunContext& context) override {
     const std::vector<double> local = data.numericField("slippage_type");

@@ -4,6 +4,7 @@
 
 #include "slipfit/filters/subsampling.h"
 #include "slipfit/pipeline/errors.h"
+#include "slipfit/pipeline/tile_roles.h"
 
 #include <ostream>
 #include <sstream>
@@ -13,10 +14,16 @@ namespace slipfit::pipeline::adapters {
 
 namespace {
 
-class SubsampleStage : public Stage {
+class SubsampleStage : public Stage, public SampledAnalysis {
  public:
   void declare(OptionSet& o) override { o.bind(p_); }
   void prepare() override { p_.validate(); }
+
+  const SubsampleParameters& sampling() const override { return p_; }
+  void setSampling(const SubsampleParameters& sampling) override {
+    sampling.validate();
+    p_ = sampling;
+  }
 
   DataFlow flow() const override { return {kPoints, 0u}; }
 

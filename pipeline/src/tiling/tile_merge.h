@@ -7,6 +7,7 @@
 #include "tiler.h"
 
 #include "slipfit/pipeline/output_files.h"
+#include "slipfit/pipeline/tile_roles.h"
 #include "slipfit/render/splat_renderer.h"
 
 #include <cstdint>
@@ -22,11 +23,7 @@ struct MergeSummary {
   std::uint64_t assigned = 0;  ///< of those, in a segment
 };
 
-/// The picture of the merged segments: at most kRenderedPoints of them (every k-th written).
-struct RenderRequest {
-  std::string name;  ///< file name of the PNG
-  RenderParameters camera;
-};
+/// The picture of the merged segments draws at most kRenderedPoints of them (every k-th written).
 constexpr std::uint64_t kRenderedPoints = 2000000;
 
 /// Merges the finished runs of \a manifest's tiles in \a runs_dir (one directory per tile) into

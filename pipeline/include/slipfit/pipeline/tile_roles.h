@@ -1,0 +1,49 @@
+#pragma once
+/// \file How a stage takes part in a tiled run (docs/TILING.md), said in C++: the tile runner asks
+/// a configured stage for these interfaces (dynamic_cast) and sets typed values through them,
+/// never by the stage's type name, `--set` strings or its options' text.
+
+#include "slipfit/filters/subsampling.h"
+#include "slipfit/render/splat_renderer.h"
+
+#include <optional>
+#include <string>
+
+namespace slipfit::pipeline {
+
+/// A picture of segments: its file name and camera.
+struct RenderRequest {
+  std::string name;  ///< file name of the PNG inside output.dir
+  RenderParameters camera;
+};
+
+/// A stage whose results a tiled run joins across tiles; a tiled pipeline ends with one
+/// (segmentation). Each tile runs it as configured, without its picture; the merge writes the
+/// joined files under the names it gives and draws the picture of the whole.
+class JoinedAcrossTiles {
+ public:
+  virtual ~JoinedAcrossTiles() = default;
+  /// The files it writes into output.dir, by role.
+  struct Files {
+    std::string report;    ///< primitives.yaml: one entry per segment
+    std::string segments;  ///< segments.ply: every point with its label
+  };
+  virtual Files joinedFiles() const = 0;
+  /// Its picture as configured; nullopt when it draws none.
+  virtual std::optional<RenderRequest> picture() const = 0;
+  /// Leaves the picture out: a tile's picture is not the run's.
+  virtual void dropPicture() = 0;
+};
+
+/// A stage that analyses a sample of the cloud chosen for the whole cloud (subsample): a tiled
+/// run gives every tile the sampling the untiled run would use.
+class SampledAnalysis {
+ public:
+  virtual ~SampledAnalysis() = default;
+  /// The sampling as configured.
+  virtual const SubsampleParameters& sampling() const = 0;
+  /// Replaces it (validated: InvalidParameterError).
+  virtual void setSampling(const SubsampleParameters& sampling) = 0;
+};
+
+}  // namespace slipfit::pipeline
