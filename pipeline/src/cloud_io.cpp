@@ -27,6 +27,7 @@ using Field = pcl::PCLPointField;
 
 namespace {
 
+static_assert(sizeof(SlippageType) == sizeof(std::int32_t), "written as an int property");
 using ply::datatypeBytes;
 
 /// The value at \a p of a PCLPointField \a datatype as double; NaN for a type PCL 1.13 does not
@@ -187,6 +188,8 @@ RowLayout rowLayout(const PointData& data) {
       add(f.name, Field::FLOAT32, w->data(), sizeof(float));
     else if (const auto* c = std::get_if<std::vector<std::uint8_t>>(&f.values))
       add(f.name, Field::UINT8, c->data(), sizeof(std::uint8_t));
+    else if (const auto* t = std::get_if<std::vector<SlippageType>>(&f.values))
+      add(f.name, Field::INT32, t->data(), sizeof(SlippageType));  // its int code
   }
   h.row_step = h.point_step * h.width;
   return layout;

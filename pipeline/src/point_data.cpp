@@ -1,5 +1,7 @@
 #include "slipfit/pipeline/point_data.h"
 
+#include "slipfit/pipeline/ply_scalar.h"
+
 #include <pcl/common/io.h>
 
 #include <algorithm>
@@ -44,52 +46,30 @@ const PointField* PointData::field(const std::string& name) const {
 std::vector<double> PointData::numericField(const std::string& name) const {
   std::vector<double> out;
   if (const PointField* f = field(name)) {
-    std::visit([&](const auto& v) { out.assign(v.begin(), v.end()); }, f->values);
+    std::visit(
+        [&](const auto& v) {
+          out.reserve(v.size());
+          for (const auto x : v)
+            out.push_back(static_cast<double>(x));
+        },
+        f->values);
     return out;
   }
   for (const auto& f : extra.fields) {
-    if (f.name != name || f.count != 1)
+    const std::optional<ply::Scalar> scalar = ply::scalarOfDatatype(f.datatype);
+    if (f.name != name || f.count != 1 || !scalar)
       continue;
     out.resize(extra.width);
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      const std::uint8_t* p = extra.data.data() + i * extra.point_step + f.offset;
-      auto load = [&](auto tag) {
-        decltype(tag) v;
-        std::memcpy(&v, p, sizeof(v));
-        return static_cast<double>(v);
-      };
-      switch (f.datatype) {
-        case pcl::PCLPointField::INT8:
-          out[i] = load(std::int8_t{});
-          break;
-        case pcl::PCLPointField::UINT8:
-          out[i] = load(std::uint8_t{});
-          break;
-        case pcl::PCLPointField::INT16:
-          out[i] = load(std::int16_t{});
-          break;
-        case pcl::PCLPointField::UINT16:
-          out[i] = load(std::uint16_t{});
-          break;
-        case pcl::PCLPointField::INT32:
-          out[i] = load(std::int32_t{});
-          break;
-        case pcl::PCLPointField::UINT32:
-          out[i] = load(std::uint32_t{});
-          break;
-        case pcl::PCLPointField::FLOAT32:
-          out[i] = load(float{});
-          break;
-        case pcl::PCLPointField::FLOAT64:
-          out[i] = load(double{});
-          break;
-        default:
-          return std::vector<double>{};
-      }
-    }
+    for (std::size_t i = 0; i < out.size(); ++i)
+      out[i] = ply::decode(*scalar, extra.data.data() + i * extra.point_step + f.offset);
     return out;
   }
   return out;
+}
+
+const std::vector<SlippageType>* PointData::localSlippage() const {
+  const PointField* f = field(kSlippageTypeField);
+  return f ? std::get_if<std::vector<SlippageType>>(&f->values) : nullptr;
 }
 
 std::string dataBitsText(unsigned bits) {

@@ -68,26 +68,28 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
   void dropPicture() override { render_.clear(); }
 
   void run(PointData& data, RunContext& context) override {
-    const std::vector<double> local = data.numericField("slippage_type");
-    if (local.size() != data.size())
+    const std::vector<SlippageType>* local = data.localSlippage();
+    if (!local || local->size() != data.size())
       throw RunError(
           "segmentation needs the per-point field 'slippage_type': run slippage_classification "
           "with mode: local before it");
     if (!context.outputs)
       throw RunError("no output directory for the segmentation outputs");
-    // The analysis copies (doubles) live only while segmenting.
-    SegmentationResult result = [&] {
-      const Eigen::Matrix3Xd x = coordinates(*data.cloud).cast<double>();
-      const Eigen::Matrix3Xd nn = normals(std::as_const(*data.cloud)).cast<double>();
-      std::vector<SlippageType> types(data.size());
-      for (std::size_t i = 0; i < types.size(); ++i)
-        types[i] = static_cast<SlippageType>(static_cast<int>(local[i]));
-      if (!x.allFinite())
-        throw RunError("segmentation: some points are not finite");
-      SegmentationParameters parameters = parameters_;
-      parameters.threads = context.threads;
-      return segmentBySlippage(x, nn, *data.neighborhoods, types, parameters);
-    }();
+    if (!coordinates(*data.cloud).allFinite())
+      throw RunError("segmentation: some points are not finite");
+    SegmentationParameters parameters = parameters_;
+    parameters.threads = context.threads;
+    // The PCL front end, called as a PCL application calls it (the analysis copies in doubles
+    // live only inside segment()).
+    SlippageSegmentation<pcl::PointNormal> segmentation;
+    segmentation.setInputCloud(data.cloud);
+    segmentation.setNeighborhoods(data.neighborhoods);
+    segmentation.setLocalTypes(std::shared_ptr<const std::vector<SlippageType>>(
+        std::shared_ptr<void>(), local));  // a view: the field outlives the call
+    segmentation.setParameters(parameters);
+    std::vector<pcl::PointIndices> clusters;
+    segmentation.segment(clusters);
+    SegmentationResult result = segmentation.releaseResult();
     if (data.full)
       carryToFull(data, result, context.threads, context.fields_used_later);
 

@@ -98,12 +98,13 @@ class SlippageStage : public Stage {
     pcl::PointCloud<PointSlippage> out;
     local.compute(out);
     const std::size_t n = out.size();
-    std::vector<std::int32_t> motions(n), type(n);
+    std::vector<std::int32_t> motions(n);
+    std::vector<SlippageType> type(n);
     std::vector<float> ax(n), ay(n), az(n), gap(n);
     std::array<std::size_t, kSlippageTypeNames.size()> counts{};
     for (std::size_t i = 0; i < n; ++i) {
       motions[i] = out[i].motions;
-      type[i] = out[i].slippage_type;
+      type[i] = static_cast<SlippageType>(out[i].slippage_type);
       ax[i] = out[i].axis_x;
       ay[i] = out[i].axis_y;
       az[i] = out[i].axis_z;
@@ -111,7 +112,7 @@ class SlippageStage : public Stage {
       ++counts[static_cast<std::size_t>(out[i].slippage_type)];
     }
     data.setField({"slippable_motions", std::move(motions)});
-    data.setField({"slippage_type", std::move(type)});
+    data.setField({kSlippageTypeField, std::move(type)});
     data.setField({"slip_axis_x", std::move(ax)});
     data.setField({"slip_axis_y", std::move(ay)});
     data.setField({"slip_axis_z", std::move(az)});

@@ -3,6 +3,7 @@
 /// structures that stages add.
 
 #include "slipfit/neighborhoods/neighborhoods.h"
+#include "slipfit/slippage/slippage.h"
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/point_cloud.h>
@@ -19,11 +20,18 @@
 
 namespace slipfit::pipeline {
 
-/// One named per-point value written to the output PLY as a scalar property.
+/// One named per-point value written to the output PLY as a scalar property (a SlippageType as
+/// its int code).
 struct PointField {
   std::string name;
-  std::variant<std::vector<std::int32_t>, std::vector<float>, std::vector<std::uint8_t>> values;
+  std::variant<std::vector<std::int32_t>, std::vector<float>, std::vector<std::uint8_t>,
+               std::vector<SlippageType>>
+      values;
 };
+
+/// The field of slippage_classification's local mode that carries each point's slippage type
+/// (kLocalSlippage): typed between stages, written as an int property.
+inline constexpr const char* kSlippageTypeField = "slippage_type";
 
 /// Data capabilities a stage may require or produce (bit flags).
 enum DataBits : unsigned {
@@ -85,6 +93,8 @@ struct PointData {
   /// Adds a field, replacing one of the same name.
   void setField(PointField field);
   const PointField* field(const std::string& name) const;
+  /// The local slippage type of every point (kLocalSlippage); nullptr when no stage set it.
+  const std::vector<SlippageType>* localSlippage() const;
   /// The values of a numeric per-point field, from the stage fields or the input's extra fields;
   /// empty when there is no such field (or it has count != 1).
   std::vector<double> numericField(const std::string& name) const;

@@ -141,10 +141,17 @@ class SlippageSegmentation : public pcl::PCLBase<PointT> {
   void setLocalSlippage(typename pcl::PointCloud<PointSlippage>::ConstPtr slippage) {
     slippage_ = std::move(slippage);
   }
+  /// The local slippage types themselves, one per cloud point, instead of LocalSlippage's cloud
+  /// (a pipeline that carries them as a typed field).
+  void setLocalTypes(std::shared_ptr<const std::vector<SlippageType>> types) {
+    types_ = std::move(types);
+  }
   /// Checked when the work runs (one validation, PCL's initCompute convention).
   void setParameters(const SegmentationParameters& parameters) { parameters_ = parameters; }
   void segment(std::vector<pcl::PointIndices>& clusters);
   const SegmentationResult& result() const { return result_; }
+  /// Moves the result out (result() is empty afterwards): no copy of the labels.
+  SegmentationResult releaseResult() { return std::move(result_); }
 
  protected:
   using pcl::PCLBase<PointT>::input_;
@@ -153,6 +160,7 @@ class SlippageSegmentation : public pcl::PCLBase<PointT> {
  private:
   std::shared_ptr<const Neighborhoods> neighborhoods_;
   typename pcl::PointCloud<PointSlippage>::ConstPtr slippage_;
+  std::shared_ptr<const std::vector<SlippageType>> types_;
   SegmentationParameters parameters_;
   SegmentationResult result_;
 };

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -18,7 +19,7 @@
 namespace slipfit {
 
 /// What the slippable motions say about the surface.
-enum class SlippageType {
+enum class SlippageType : std::int32_t {
   none,        ///< no slippable motion: a general (rigid) surface
   plane,       ///< 3 motions: two translations and the rotation about the normal
   sphere,      ///< 3 motions: rotations about the centre

@@ -12,8 +12,9 @@ void SlippageSegmentation<PointT>::segment(std::vector<pcl::PointIndices>& clust
   clusters.clear();
   if (!input_ || input_->empty())
     throw DegenerateInputError("segmentation: the input cloud is empty");
-  if (!neighborhoods_ || !slippage_ || slippage_->size() != input_->size() ||
-      neighborhoods_->size() != input_->size())
+  const bool has_types =
+      types_ ? types_->size() == input_->size() : slippage_ && slippage_->size() == input_->size();
+  if (!neighborhoods_ || !has_types || neighborhoods_->size() != input_->size())
     throw DegenerateInputError(
         "segmentation: needs neighborhoods and local slippage for every cloud point");
   if (!this->initCompute())
@@ -46,7 +47,7 @@ void SlippageSegmentation<PointT>::segment(std::vector<pcl::PointIndices>& clust
     const auto col = static_cast<Eigen::Index>(k);
     points.col(col) = p.getVector3fMap().template cast<double>();
     normals.col(col) = p.getNormalVector3fMap().template cast<double>();
-    types[k] = static_cast<SlippageType>((*slippage_)[i].slippage_type);
+    types[k] = types_ ? (*types_)[i] : static_cast<SlippageType>((*slippage_)[i].slippage_type);
     if (whole)
       continue;
     const NeighborView v = (*neighborhoods_)[i];
