@@ -2,7 +2,8 @@
 
 #include "slipfit/pipeline/errors.h"
 
-#include "header_guard.h"
+#include "header_text.h"
+#include "ply/ply_header.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -105,88 +106,62 @@ bool CloudStream::headerLine(std::string& line, std::vector<std::string>& w, int
 }
 
 void CloudStream::parsePly() {
-  std::string line;
-  int number = 0;
-  bool in_vertex = false, seen_vertex = false;
-  std::uint64_t skip_bytes = 0, skip_lines = 0, element_count = 0;
+  // The header is read as PCL's reader reads it (ply_header.h): the same checks as an untiled run.
+  std::uint64_t file_size = 0;
+  const std::string head = detail::readHead(path_, file_size);
+  const ply::Header header = ply::parseHeader(head, file_size, "'" + path_ + "': ");
+  encoding_ = header.format == "ascii"                  ? Encoding::ascii
+              : header.format == "binary_little_endian" ? Encoding::little_endian
+                                                        : Encoding::big_endian;
+  // Rows of the elements before the vertices are skipped: as lines (ascii) or bytes (binary).
+  std::uint64_t skip_bytes = 0, skip_lines = 0;
+  const ply::HeaderElement* vertex = nullptr;
+  for (const ply::HeaderElement& e : header.elements) {
+    if (e.name == "vertex") {
+      vertex = &e;
+      break;
+    }
+    std::uint64_t record = 0;
+    for (const ply::HeaderProperty& p : e.properties) {
+      if (p.list)
+        fail("line " + std::to_string(p.line) +
+             ": a list property before the vertex element cannot be read by rows");
+      record += p.min_bytes;
+    }
+    if (record > 0 && e.count > (std::numeric_limits<std::uint64_t>::max() - skip_bytes) / record)
+      fail("the elements before the vertices exceed any file");
+    skip_bytes += e.count * record;
+    skip_lines += e.count;
+  }
+  if (!vertex)
+    fail("no vertex element");
+  points_ = vertex->count;
   std::optional<ply::Scalar> coordinate_type;
   int property = 0;
-  std::vector<std::string> w;
-  while (headerLine(line, w, number)) {
-    const std::string at = "line " + std::to_string(number) + ": ";
-    if (w.empty() || w[0] == "ply" || w[0] == "comment" || w[0] == "obj_info")
-      continue;
-    if (w[0] == "format") {
-      if (w.size() < 2)
-        fail(at + "format without an encoding");
-      if (w[1] == "ascii")
-        encoding_ = Encoding::ascii;
-      else if (w[1] == "binary_little_endian")
-        encoding_ = Encoding::little_endian;
-      else if (w[1] == "binary_big_endian")
-        encoding_ = Encoding::big_endian;
-      else
-        fail(at + "unknown format '" + w[1] + "'");
-    } else if (w[0] == "element") {
-      if (w.size() != 3 || !parseCount(w[2], element_count))
-        fail(at + "an element line is 'element <name> <count>'");
-      if (in_vertex)
-        in_vertex = false;  // elements after the vertices are never read
-      if (!seen_vertex && w[1] == "vertex") {
-        in_vertex = seen_vertex = true;
-        points_ = element_count;
-        property = 0;
-      } else if (!seen_vertex) {
-        skip_lines += element_count;
+  for (const ply::HeaderProperty& p : vertex->properties) {
+    const std::string at = "line " + std::to_string(p.line) + ": ";
+    for (int a = 0; a < 3; ++a)
+      if (p.name == std::string(1, "xyz"[a])) {
+        if (!ply::isFloating(p.scalar))
+          fail(at + "coordinate " + p.name + " is not float or double");
+        if (coordinate_type && ply::scalarBytes(*coordinate_type) != ply::scalarBytes(p.scalar))
+          fail(at + "x, y and z must have one type");
+        coordinate_type = p.scalar;
+        offset_[a] = record_bytes_;
+        column_[a] = property;
       }
-    } else if (w[0] == "property") {
-      if (w.size() >= 2 && w[1] == "list") {
-        if (!seen_vertex || in_vertex)
-          fail(at + "a list property in or before the vertex element cannot be read by rows");
-        continue;
-      }
-      const std::optional<ply::Scalar> scalar =
-          w.size() == 3 ? ply::scalarNamed(w[1]) : std::nullopt;
-      if (!scalar)
-        fail(at + "a property line is 'property <type> <name>'");
-      const std::size_t bytes = ply::scalarBytes(*scalar);
-      if (in_vertex) {
-        for (int a = 0; a < 3; ++a)
-          if (w[2] == std::string(1, "xyz"[a])) {
-            if (!ply::isFloating(*scalar))
-              fail(at + "coordinate " + w[2] + " is not float or double");
-            if (coordinate_type && ply::scalarBytes(*coordinate_type) != bytes)
-              fail(at + "x, y and z must have one type");
-            coordinate_type = scalar;
-            offset_[a] = record_bytes_;
-            column_[a] = property;
-          }
-        addField(w[2], *scalar);
-        ++property;
-      } else if (!seen_vertex) {
-        const auto b = static_cast<std::uint64_t>(bytes);
-        if (element_count > (std::numeric_limits<std::uint64_t>::max() - skip_bytes) / b)
-          fail(at + "the elements before the vertices exceed any file");
-        skip_bytes += element_count * b;
-      }
-    } else if (w[0] == "end_header") {
-      if (!seen_vertex)
-        fail("no vertex element");
-      if (column_[0] < 0 || column_[1] < 0 || column_[2] < 0)
-        fail("the vertex element has no x, y and z");
-      coordinate_bytes_ = static_cast<int>(ply::scalarBytes(*coordinate_type));
-      columns_ = property;
-      data_offset_ = static_cast<std::uint64_t>(in_.tellg());
-      if (encoding_ == Encoding::ascii)
-        ascii_lines_before_ = skip_lines;
-      else
-        data_offset_ += skip_bytes;
-      return;
-    } else {
-      fail(at + "unexpected header line '" + line + "'");
-    }
+    addField(p.name, p.scalar);
+    ++property;
   }
-  fail("the header has no end_header line");
+  if (column_[0] < 0 || column_[1] < 0 || column_[2] < 0)
+    fail("the vertex element has no x, y and z");
+  coordinate_bytes_ = static_cast<int>(ply::scalarBytes(*coordinate_type));
+  columns_ = property;
+  data_offset_ = header.end;
+  if (encoding_ == Encoding::ascii)
+    ascii_lines_before_ = skip_lines;
+  else
+    data_offset_ += skip_bytes;
 }
 
 void CloudStream::parsePcd() {

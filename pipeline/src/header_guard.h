@@ -24,9 +24,6 @@ void checkPlyHeader(const std::string& path, const std::string& where);
 /// and whose SIZE, TYPE or COUNT values PCL would turn into a broken record layout.
 void checkPcdHeaderText(const std::string& path, const std::string& where);
 
-/// A plain decimal number (no sign, no exponent, no trailing text) no larger than \a max.
-bool parseCount(const std::string& text, std::uint64_t max, std::uint64_t& value);
-
 /// After PCL's PCDReader::readHeader, before PCDReader::read: every field must have a known type
 /// and the fields must tile the record exactly (PCL writes each value with the size of its TYPE),
 /// and the buffer PCL sized at the POINTS line must hold every record.

@@ -191,7 +191,12 @@ TEST(CloudStream, RefusesWhatItCannotReadByRows) {
   refused("list.ply",
           "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
           "property float z\nproperty list uchar int n\nend_header\n",
-          "line 7: a list property");
+          "line 7: vertex property 'n' is a list");
+  refused("before.ply",
+          "ply\nformat binary_little_endian 1.0\nelement face 1\nproperty list uchar int v\n"
+          "element vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+          "end_header\n0000000000000000",
+          "line 4: a list property before the vertex element");
   refused("mixed.ply",
           "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty double y\n"
           "property float z\nend_header\n",

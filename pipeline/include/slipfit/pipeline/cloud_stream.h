@@ -2,8 +2,8 @@
 /// \file The rows of a PLY or PCD file read by ranges, without loading the file: binary files (PLY
 /// little or big endian, PCD binary) by one seek per range, ascii files by reading on (their
 /// ranges must come in increasing order). The tiler of a tiled run streams its input through it
-/// (docs/TILING.md); the header is parsed here because PCL 1.13's PLYReader::readHeader reads the
-/// whole file.
+/// (docs/TILING.md). A PLY header is read by the parser the header guard uses (ply_header.h), not
+/// by PCL's PLYReader::readHeader, which reads the whole file.
 
 #include "slipfit/pipeline/ply_scalar.h"
 
