@@ -21,7 +21,8 @@ struct SegmentedCloud {
 /// Replaces \a cloud's normals by estimated ones and segments it with neighborhoods of \a k (over
 /// the whole cloud); only the points \a indices when given (setIndices).
 inline SegmentedCloud segmentCloud(const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud, int k,
-                                   const pcl::IndicesConstPtr& indices = nullptr) {
+                                   const pcl::IndicesConstPtr& indices = nullptr,
+                                   const SegmentationParameters& parameters = {}) {
   SegmentedCloud out;
   out.neighborhoods = knnNeighborhoods(cloud, k);
   estimateNormals(cloud, out.neighborhoods);
@@ -36,6 +37,7 @@ inline SegmentedCloud segmentCloud(const pcl::PointCloud<pcl::PointNormal>::Ptr&
   seg.setLocalSlippage(slippage);
   if (indices)
     seg.setIndices(indices);
+  seg.setParameters(parameters);
   std::vector<pcl::PointIndices> clusters;
   seg.segment(clusters);
   out.result = seg.result();

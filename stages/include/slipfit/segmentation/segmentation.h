@@ -37,6 +37,9 @@ struct SegmentationParameters {
   /// Adjacent segments merge when the fit of their union has an RMS distance at most this factor
   /// times the larger of theirs.
   double merge_factor = 1.5;
+  /// Phase 6: fillets that two planes meeting at a crease took whole are given to a cylinder of
+  /// their own; false keeps sharp creases only.
+  bool fillets = true;
   /// OpenMP threads for the fits tried in parallel (the result does not depend on them); 0 means as
   /// many as the machine has.
   int threads = 0;
@@ -60,6 +63,10 @@ struct SegmentationParameters {
               .atMost(90));
     visit(self.min_points,
           parameter("min_points", "Smallest segment (unset: 20).").in("points").between(3, 1e9));
+    visit(self.fillets,
+          parameter("fillets",
+                    "Look for fillets that two planes meeting at a crease took whole as they grew, "
+                    "and give their points to a cylinder (false: sharp creases only)."));
     visit(self.merge_factor,
           parameter("merge_factor",
                     "Adjacent segments merge when the best fit of their union has an RMS distance "

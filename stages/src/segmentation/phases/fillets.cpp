@@ -154,6 +154,8 @@ void recoverFillets(SegmentationState& s) {
   // crease, the cross-section's fillet radius is fitted on the points near the crease, and the
   // fillet is kept when its gain over the sharp crease (in squared σ) beats its parameters' cost
   // by the Bayesian information criterion and its arc holds min_points.
+  if (!s.parameters.fillets)
+    return;
   for (const auto& [a, b] : touchingPlanes(s))
     tryFillet(s, a, b);
 }
