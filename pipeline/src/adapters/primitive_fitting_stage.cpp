@@ -1,7 +1,7 @@
 #include "adapters.h"
 
 #include "slipfit/core/cloud_maps.h"
-#include "slipfit/fitting/labelled_fit.h"
+#include "slipfit/fitting/labelled_fitting.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <memory>
 #include <ostream>
 #include <sstream>
 #include <utility>
@@ -60,13 +61,18 @@ class PrimitiveFittingStage : public Stage {
       if (labels.size() != n)
         throw RunError("no per-point field '" + labels_ + "' for the labels");
     }
-    LabelledFits fits = [&] {
-      const pcl::PointCloud<pcl::PointNormal>& cloud = *data.cloud;
-      const Eigen::Matrix3Xd x = coordinates(cloud).cast<double>();
-      const Eigen::Matrix3Xd nn = data.has_normals ? Eigen::Matrix3Xd(normals(cloud).cast<double>())
-                                                   : Eigen::Matrix3Xd(3, 0);
-      return fitLabelled(x, nn, weights, labels, p_, context.seed);
-    }();
+    // The PCL front end, called as a PCL application calls it.
+    LabelledFitting<pcl::PointNormal> fitting;
+    fitting.setInputCloud(data.cloud);
+    if (data.has_normals)
+      fitting.setInputNormals(data.cloud);
+    fitting.setWeights(std::make_shared<const std::vector<double>>(std::move(weights)));
+    if (!labels_.empty())
+      fitting.setLabels(std::make_shared<const std::vector<double>>(std::move(labels)));
+    fitting.setParameters(p_);
+    fitting.setSeed(context.seed);
+    LabelledFits fits;
+    fitting.compute(fits);
     const bool ransac = p_.robustMethod(labels_.empty()) == RobustMethod::ransac;
     std::vector<PrimitiveRecord> records;
     for (LabelledFit& f : fits.fits) {

@@ -2,10 +2,14 @@
 // each label's points.
 
 #include "slipfit/fitting/labelled_fit.h"
+#include "slipfit/fitting/labelled_fitting.h"
 #include "slipfit/sampling/primitive_sampler.h"
 
 #include <gtest/gtest.h>
 
+#include <pcl/point_types.h>
+
+#include <memory>
 #include <vector>
 
 namespace slipfit {
@@ -82,6 +86,58 @@ TEST(LabelledFit, AWholeCloudFitIsRobustByDefault) {
   // above it).
   EXPECT_GE(f.inliers, 0.98 * 3000);
   EXPECT_LE(f.inliers, 3000);
+}
+
+// The PCL front end (LabelledFitting) gives fitLabelled's result on the points it is given, and
+// honours setIndices: the plane and sphere of the scene above as a PointNormal cloud, the sphere's
+// points as indices: one fit (label 1), the same parameters as fitLabelled on those points alone
+// (the same doubles in, the same arithmetic), distances −1 for every point outside the indices.
+TEST(LabelledFit, TheFrontEndHonoursIndices) {
+  Eigen::Matrix3Xd x(3, 0), n(3, 0);
+  std::vector<double> labels;
+  append(Plane{Eigen::Vector3d(0.2, -0.3, 0.93).normalized(), 0.4}, 2000, 0.002, 0, 1, x, n,
+         labels);
+  append(Sphere{Eigen::Vector3d(3, 0, 0), 0.5}, 2000, 0.002, 1, 2, x, n, labels);
+  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    pcl::PointNormal p;
+    p.getVector3fMap() = x.col(i).cast<float>();
+    p.getNormalVector3fMap() = n.col(i).cast<float>();
+    cloud->push_back(p);
+  }
+  auto sphere = std::make_shared<pcl::Indices>();
+  for (pcl::index_t i = 2000; i < 4000; ++i)
+    sphere->push_back(i);
+  LabelledFitting<pcl::PointNormal> fitting;
+  fitting.setInputCloud(cloud);
+  fitting.setInputNormals(cloud);
+  fitting.setIndices(sphere);
+  fitting.setLabels(std::make_shared<const std::vector<double>>(labels));
+  fitting.setSeed(3);
+  LabelledFits fits;
+  fitting.compute(fits);
+  ASSERT_EQ(fits.fits.size(), 1u);
+  EXPECT_EQ(*fits.fits[0].label, 1);
+  ASSERT_EQ(fits.distance.size(), cloud->size());
+  for (std::size_t i = 0; i < 2000; ++i)
+    ASSERT_EQ(fits.distance[i], -1.0f) << i;
+
+  // The kernel on the same points (the cloud's floats, as the front end reads them).
+  Eigen::Matrix3Xd xs(3, 2000), ns(3, 2000);
+  for (Eigen::Index j = 0; j < 2000; ++j) {
+    xs.col(j) = (*cloud)[static_cast<std::size_t>(2000 + j)].getVector3fMap().cast<double>();
+    ns.col(j) = (*cloud)[static_cast<std::size_t>(2000 + j)].getNormalVector3fMap().cast<double>();
+  }
+  const LabelledFits kernel =
+      fitLabelled(xs, ns, std::vector<double>(2000, 1.0),
+                  std::vector<double>(labels.begin() + 2000, labels.end()), {}, 3);
+  ASSERT_EQ(kernel.fits.size(), 1u);
+  const auto& a = std::get<Sphere>(fits.fits[0].fit.refined);
+  const auto& b = std::get<Sphere>(kernel.fits[0].fit.refined);
+  EXPECT_EQ(a.center, b.center);
+  EXPECT_EQ(a.radius, b.radius);
+  for (std::size_t j = 0; j < 2000; ++j)
+    ASSERT_EQ(fits.distance[2000 + j], kernel.distance[j]) << j;
 }
 
 }  // namespace
