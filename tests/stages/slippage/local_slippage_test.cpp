@@ -43,5 +43,32 @@ TEST(LocalSlippage, NeedsNeighborhoods) {
   EXPECT_THROW(local.compute(out), DegenerateInputError);
 }
 
+// setIndices (PCL's contract): the output is index-aligned with the indices, and each point's
+// result is the whole cloud's at that point (its neighborhood is the cloud's either way).
+TEST(LocalSlippage, IndicesGiveTheirPointsResultsInTheirOrder) {
+  auto cloud = std::make_shared<testing::Cloud>(
+      testing::sampleCylinder(3000, Eigen::Vector3f::Zero(), 0.2f, 1.0f, 4));
+  const auto hoods = testing::knnNeighborhoods(cloud, 30);
+  LocalSlippage<pcl::PointNormal> local;
+  local.setInputCloud(cloud);
+  local.setNeighborhoods(hoods);
+  pcl::PointCloud<PointSlippage> whole, part;
+  local.compute(whole);
+  auto indices = std::make_shared<pcl::Indices>();
+  for (pcl::index_t i = 2999; i >= 0; i -= 7)  // descending: the order is the indices'
+    indices->push_back(i);
+  local.setIndices(indices);
+  local.compute(part);
+  ASSERT_EQ(part.size(), indices->size());
+  for (std::size_t j = 0; j < indices->size(); ++j) {
+    const PointSlippage& a = part[j];
+    const PointSlippage& b = whole[static_cast<std::size_t>((*indices)[j])];
+    ASSERT_EQ(a.slippage_type, b.slippage_type) << j;
+    ASSERT_EQ(a.motions, b.motions) << j;
+    ASSERT_EQ(a.axis_x, b.axis_x) << j;
+    ASSERT_EQ(a.gap, b.gap) << j;
+  }
+}
+
 }  // namespace
 }  // namespace slipfit
