@@ -1,7 +1,7 @@
 // Outliers scattered through a scene's volume are free points after growth; recoverSmallFaces
 // must not take clusters of them for small faces (phase 9, SegmentationTuning::scattered; THEORY
-// §6 phase 9). Before the rule, the demo config gave the fixed scene with 10 % outliers and σ 1 % 193
-// segments for its 10 primitives: 183 of them spheres, cylinders and tori of 13–60 points, 89 %
+// §6 phase 9). Before the rule, the demo config gave the fixed scene with 10 % outliers and σ 1 %
+// 193 segments for its 10 primitives: 183 of them spheres, cylinders and tori of 13–60 points, 89 %
 // of their points outliers.
 
 #include "points_cloud.h"
