@@ -143,13 +143,14 @@ TEST(CreaseFillet, AFilletOfTwentySigmaBetweenTwoPlanesIsACylinder) {
 }
 
 // The switch of phase 6 (SegmentationParameters::fillets): off, no fillet is recovered and the
-// planes keep the fillet's edges: the best cylinder holds under 0.8 of it on seeds 1-3 (measured
-// 0.649 / 0.309 / 0.176, the figures of the code before phase 6 existed), against 0.906 or more
-// with it on (above).
+// planes keep the fillet's edges: the best cylinder holds at most 0.649 / 0.309 / 0.176 of it on
+// seeds 1-3 (the figures of the code before phase 6 existed), against 0.906 or more with it on
+// (above).
 TEST(CreaseFillet, WithFilletsOffTheCreaseStaysSharp) {
   SegmentationParameters parameters;
   parameters.fillets = false;
-  for (unsigned seed : {1u, 2u, 3u}) {
+  const std::pair<unsigned, double> seeds[] = {{1u, 0.649}, {2u, 0.309}, {3u, 0.176}};
+  for (const auto& [seed, most] : seeds) {
     const Bracket b = bracket(seed);
     const testing::SegmentedCloud out =
         testing::segmentCloud(testing::pointsCloud(b.points), 12, nullptr, parameters);
@@ -167,7 +168,7 @@ TEST(CreaseFillet, WithFilletsOffTheCreaseStaysSharp) {
       best_share = std::max(best_share, static_cast<double>(on) / fillet_points);
     }
     std::cout << "seed " << seed << ", fillets off: best cylinder share " << best_share << "\n";
-    EXPECT_LT(best_share, 0.8) << "seed " << seed;
+    EXPECT_LE(best_share, most) << "seed " << seed;
   }
 }
 
