@@ -2,6 +2,7 @@
 
 #include "slipfit/pipeline/errors.h"
 
+#include "digest.h"
 #include "file_checks.h"
 #include "interrupt_cleanup.h"
 
@@ -10,10 +11,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <system_error>
 
 namespace slipfit::pipeline {
@@ -54,7 +57,54 @@ bool sameFile(const struct stat& a, const struct stat& b) {
   return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
 }
 
+/// This host, as 8 hexadecimal digits of its name's digest.
+std::string hostTag() {
+  static const std::string tag = [] {
+    char host[256] = "";
+    ::gethostname(host, sizeof host - 1);
+    return detail::hex(detail::digest(host)).substr(0, 8);
+  }();
+  return tag;
+}
+
 }  // namespace
+
+std::vector<std::string> removeLeftovers(const std::string& dir, const std::string& input) {
+  static const std::regex pattern(
+      R"(\.(.+)\.tmp\.([0-9a-f]{8})-([0-9]{1,9})\.[A-Za-z0-9]{6}(\.[^.]*)?(\.previous)?)");
+  std::vector<std::string> done;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    return done;
+  std::vector<fs::path> names;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    names.push_back(e.path());
+  std::sort(names.begin(), names.end());
+  for (const fs::path& path : names) {
+    const std::string name = path.filename().string();
+    std::smatch m;
+    if (!std::regex_match(name, m, pattern) || m[2].str() != hostTag())
+      continue;
+    const long pid = std::stol(m[3].str());
+    if (pid == ::getpid() || ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH)
+      continue;  // its process is alive (or not ours to ask about)
+    struct stat st = {};
+    if (::lstat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != ::getuid() ||
+        (!input.empty() && fs::equivalent(path, input, ec)))
+      continue;
+    const fs::path final_path = path.parent_path() / (m[1].str() + m[4].str());
+    struct stat there = {};
+    if (m[5].matched && ::lstat(final_path.c_str(), &there) != 0) {
+      if (::rename(path.c_str(), final_path.c_str()) == 0)
+        done.push_back("put back " + final_path.filename().string() + " (kept aside as " + name +
+                       ")");
+      continue;
+    }
+    if (::unlink(path.c_str()) == 0)
+      done.push_back("removed " + name);
+  }
+  return done;
+}
 
 OutputFiles::~OutputFiles() {
   for (const auto& p : pending_) {
@@ -90,7 +140,9 @@ void OutputFiles::add(const std::string& name,
   // stays last so that writers that look at it (PLY, OFF) still recognise the format.
   Pending pending;
   const int fd = detail::createTemporary(
-      (fs::path(dir_) / ("." + final_path.stem().string() + ".tmp.")).string(),
+      (fs::path(dir_) / ("." + final_path.stem().string() + ".tmp." + hostTag() + "-" +
+                         std::to_string(::getpid()) + "."))
+          .string(),
       final_path.extension().string(), pending.tmp, pending.slot);
   if (fd < 0)
     throw RunError("output '" + final_path.string() +

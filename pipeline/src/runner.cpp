@@ -133,6 +133,8 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
   NullBuffer null_buffer;
   std::ostream null_stream(&null_buffer);
   std::ostream& report = options.quiet ? null_stream : report_stream;
+  for (const std::string& done : removeLeftovers(config.output.dir, config.input.path))
+    report << "output: " << done << ", left by a killed run\n";
   Progress progress(!options.quiet);
   const std::size_t steps = config.stages.size() + 2;
 

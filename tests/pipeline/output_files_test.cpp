@@ -8,11 +8,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <regex>
 #include <set>
 
 namespace slipfit::testing {
@@ -162,6 +164,61 @@ TEST(OutputFiles, AFinalNameThatIsADirectoryStopsTheCommitBeforeAnyRename) {
   out.addText("b.yaml", "b\n");
   EXPECT_THROW(out.commit(), RunError);
   EXPECT_FALSE(fs::exists(dir + "/a.yaml"));
+}
+
+/// A process id that is no process's: a child that has exited and been reaped.
+pid_t deadPid() {
+  const pid_t child = ::fork();
+  if (child == 0)
+    ::_exit(0);
+  ::waitpid(child, nullptr, 0);
+  return child;
+}
+
+/// The temporary name OutputFiles gives \a name in \a dir, with its pid part replaced by \a pid
+/// (what a run of that process would have left).
+std::string temporaryOf(const std::string& dir, const std::string& name, long pid) {
+  std::string tmp;
+  {
+    OutputFiles out(dir);
+    out.add(name, [&](const std::string& p) { tmp = fs::path(p).filename().string(); });
+  }  // not committed: removed
+  // .<stem>.tmp.<host>-<pid>.<6 characters><extension>
+  const std::regex pid_part(R"(-[0-9]+\.)");
+  return std::regex_replace(tmp, pid_part, "-" + std::to_string(pid) + ".",
+                            std::regex_constants::format_first_only);
+}
+
+// Issue 40: a run killed by SIGKILL (no handler runs) leaves its temporary files; the next run in
+// the directory removes those of dead processes of this host and says so, and nothing else.
+TEST(OutputFiles, LeftoversOfAKilledRunAreRemovedAndNothingElse) {
+  const std::string dir = scratchDir("out_leftovers");
+  fs::create_directories(dir);
+  const pid_t dead = deadPid();
+  const std::string left = temporaryOf(dir, "segments.ply", dead);
+  const std::string alive = temporaryOf(dir, "cloud.ply", 1);  // init: always alive
+  std::string other_host = temporaryOf(dir, "report.yaml", dead);
+  other_host.replace(other_host.find(".tmp.") + 5, 8, "00000000");
+  const std::string kept_aside = temporaryOf(dir, "primitives.yaml", dead) + ".previous";
+  const std::string users = ".segments.tmp.notes.ply";  // not the pattern
+  for (const std::string& name : {left, alive, other_host, kept_aside, users})
+    write(dir + "/" + name, name + "\n");
+  // The input, even when its name has the pattern, is never touched.
+  const std::string input = temporaryOf(dir, "input.ply", dead);
+  write(dir + "/" + input, "points\n");
+
+  const std::vector<std::string> done = pipeline::removeLeftovers(dir, dir + "/" + input);
+  EXPECT_THAT(
+      done, ::testing::UnorderedElementsAre(
+                "removed " + left, "put back primitives.yaml (kept aside as " + kept_aside + ")"));
+  EXPECT_EQ(entries(dir),
+            (std::set<std::string>{alive, other_host, users, input, "primitives.yaml"}));
+  EXPECT_EQ(contents(dir + "/primitives.yaml"), kept_aside + "\n");
+  // A kept-aside file whose name is taken again (the commit had renamed the new file in): removed.
+  write(dir + "/" + kept_aside, "old\n");
+  EXPECT_THAT(pipeline::removeLeftovers(dir, dir + "/" + input),
+              ::testing::ElementsAre("removed " + kept_aside));
+  EXPECT_EQ(contents(dir + "/primitives.yaml"), kept_aside + "\n");
 }
 
 }  // namespace

@@ -1,12 +1,22 @@
 #pragma once
 /// \file All-or-nothing outputs: every file is written under a temporary name in the output
-/// directory and renamed into place only when the whole run has succeeded.
+/// directory and renamed into place only when the whole run has succeeded. A temporary name says
+/// whose it is: `.<stem>.tmp.<host>-<pid>.<6 random characters><extension>` (and `.previous`
+/// after it for a replaced output kept aside during a commit), so that the next run in the
+/// directory can recognise what a killed run (SIGKILL, a power cut) left behind.
 
 #include <functional>
 #include <string>
 #include <vector>
 
 namespace slipfit::pipeline {
+
+/// Removes from \a dir the temporary files that a run on this host left when it was killed (its
+/// process is gone); an output kept aside by a commit that was cut short is put back at its name
+/// when that name is empty. Files of live processes, of other hosts, of other users, or of other
+/// names are left alone, and so is \a input (the run's input, whatever its name). Returns what
+/// was done, one entry a file ("removed .segments.tmp....").
+std::vector<std::string> removeLeftovers(const std::string& dir, const std::string& input);
 
 class OutputFiles {
  public:
