@@ -143,6 +143,8 @@ int dispatch(const std::vector<std::string>& args, std::ostream& out) {
     const ConfigArgs parsed = parseConfigArgs(args, false);
     PipelineConfig config = loadConfig(parsed.config, parsed.overrides);
     checkConfigFiles(config);
+    if (config.tiling.enabled())
+      checkTiledRun(config);
     out << parsed.config << ": valid, " << config.stages.size() << " stages\n";
     return kSuccess;
   }

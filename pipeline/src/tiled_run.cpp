@@ -11,7 +11,10 @@
 #include "tiling/tile_job.h"
 #include "tiling/tile_merge.h"
 #include "tiling/tiler.h"
+#include "tiling/work_directory.h"
 #include "tiling/work_distribution.h"
+
+#include "digest.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -240,21 +243,27 @@ std::string effectiveConfig(const PipelineConfig& config) {
   return text.str();
 }
 
-/// The work directory, checked to be empty or a tiling's own (its manifest.yaml).
-std::string workDirectory(const PipelineConfig& config) {
-  const std::string dir =
-      config.tiling.workdir.empty() ? config.output.dir + "/tiles" : config.tiling.workdir;
-  if (fs::exists(dir)) {
-    if (!fs::is_directory(dir))
-      throw RunError("tiling.workdir '" + dir + "' is not a directory");
-    if (!fs::is_empty(dir) && !fs::exists(dir + "/manifest.yaml") && !fs::exists(dir + "/tiles"))
-      throw RunError("tiling.workdir '" + dir +
-                     "' holds files that are not a tiled run's; give an empty or new directory");
-  }
-  return dir;
+/// tiling.workdir, or <output.dir>/tiles.
+std::string workDirectoryPath(const PipelineConfig& config) {
+  return config.tiling.workdir.empty() ? config.output.dir + "/tiles" : config.tiling.workdir;
+}
+
+/// What each rank must agree on with the leader: the config as the tiles run it and the tiling
+/// (the work directory is compared by its token, which a directory of the same name on another
+/// node does not hold).
+std::string configDigest(const PipelineConfig& config) {
+  std::ostringstream text;
+  text << std::setprecision(17) << effectiveConfig(config) << config.input.path << "\n"
+       << config.tiling.size << " " << config.tiling.bufferWidth() << "\n";
+  return detail::hex(detail::digest(text.str()));
 }
 
 }  // namespace
+
+void checkTiledRun(const PipelineConfig& config) {
+  joinedStage(config);
+  checkWorkDirectory(workDirectoryPath(config), config.input.path);
+}
 
 std::vector<std::string> runTiled(const PipelineConfig& config,
                                   const std::vector<std::string>& overrides,
@@ -267,7 +276,8 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   std::ostream& report = options.quiet || !work.leader() ? null_stream : report_stream;
   Progress progress(!options.quiet && work.leader());
 
-  const std::string dir = workDirectory(config);
+  const std::string dir = workDirectoryPath(config);
+  std::optional<WorkDirectory> claimed;  // the leader's, locked until the run ends
   const std::string tiles_dir = dir + "/tiles", runs_dir = dir + "/runs";
   const std::string manifest_path = dir + "/manifest.yaml";
   const TileGrid grid(config.tiling.size, config.tiling.bufferWidth());
@@ -281,6 +291,9 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   std::string failure;
   if (work.leader()) {
     try {
+      claimed.emplace(dir, config.input.path);
+      for (const std::string& done : removeLeftovers(config.output.dir, config.input.path))
+        report << "output: " << done << ", left by a killed run\n";
       TilingManifest old;
       std::uint64_t bytes = 0;
       std::int64_t mtime = 0;
@@ -288,13 +301,17 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       if (readManifest(manifest_path, old) && old.input == config.input.path &&
           old.input_bytes == bytes && old.input_mtime == mtime && old.size == grid.size() &&
           old.buffer == grid.buffer()) {
-        manifest = old;
-        report << "tiling: reusing " << manifest.tiles.size() << " tiles in " << tiles_dir << "\n";
-      } else {
-        fs::remove(manifest_path);
-        fs::remove(dir + "/analysis");
-        fs::remove_all(tiles_dir);
-        fs::remove_all(runs_dir);
+        const std::string why = verifyTiles(old, tiles_dir);
+        if (why.empty()) {
+          manifest = old;
+          report << "tiling: reusing " << manifest.tiles.size() << " tiles in " << tiles_dir
+                 << "\n";
+        } else {
+          report << "tiling: " << why << "; tiling anew\n";
+        }
+      }
+      if (manifest.tiles.empty()) {
+        claimed->removeTiling();
         progress.begin(1, 3, "tile " + config.input.path);
         manifest = writeTiles(config.input.path, config.input.nan, grid, tiles_dir,
                               [](std::uint64_t, std::uint64_t) {});
@@ -315,8 +332,20 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
     }
   }
   work.shareFailure(failure);
-  if (!work.leader())
-    readManifest(manifest_path, manifest);
+  // Every rank sees the leader's work directory (its token) and runs the leader's config.
+  const std::string token = work.broadcast(claimed ? claimed->token() : "");
+  const std::string leader_config = work.broadcast(configDigest(config));
+  failure.clear();
+  if (readRunToken(dir) != token)
+    failure = "tiling.workdir '" + dir +
+              "' is not the one the first rank claimed: the ranks must share one work directory";
+  else if (configDigest(config) != leader_config)
+    failure =
+        "this rank's config differs from the first rank's: every rank must run the same "
+        "config and --set options";
+  work.shareFailure(failure);
+  if (!work.leader() && !readManifest(manifest_path, manifest))
+    work.shareFailure("'" + manifest_path + "': cannot be read on this rank");
 
   // The analysis density of the untiled run, in every tile.
   std::vector<TileSampling> samplings;
@@ -348,7 +377,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       fingerprint += "\n" + text;
       fs::create_directories(runs_dir);
       if (readText(runs_dir + "/config") != fingerprint) {
-        fs::remove_all(runs_dir);
+        claimed->removeRuns();
         fs::create_directories(runs_dir);
         writeAtomically(runs_dir + "/config", fingerprint);
       }
@@ -372,8 +401,15 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   // the cores better than one tile's stages do, and the outputs do not depend on the threads.
   const auto tiles_start = std::chrono::steady_clock::now();
   std::size_t to_run = 0;
-  for (const TileInfo& tile : manifest.tiles)
-    to_run += tileDone(runs_dir + "/" + tile.name()) ? 0 : 1;
+  for (const TileInfo& tile : manifest.tiles) {
+    std::string why;
+    if (tileDone(runs_dir + "/" + tile.name(), why))
+      continue;
+    ++to_run;
+    if (!why.empty())
+      report << "tiling: " << tile.name() << "'s run does not verify (" << why
+             << "); running it again\n";
+  }
   const int threads = resolveThreads(config.settings.threads);
   const int workers =
       static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(threads, to_run)));

@@ -30,6 +30,28 @@ for ranks in 2 3; do
   done_count=$(find "$work/ranks$ranks/tiles/runs" -name done | wc -l)
   [ "$done_count" = "$tiles" ] || { echo "FAIL: $done_count of $tiles tiles done"; exit 1; }
 done
+# Issue 40: ranks that do not share the run. A rank started with another config (MPMD), and a
+# rank whose work directory is not the first rank's: every rank refuses before any tile, no
+# output is written, and the message says why.
+mpmd() {  # mpmd NAME ARGS-OF-RANK-1...
+  local name=$1
+  shift
+  if "$mpiexec" "${as_root[@]}" --oversubscribe -np 1 "$slipfit" "${run[@]}" \
+    --set output.dir="$work/$name" --set tiling.workdir="$work/$name.work" : \
+    -np 1 "$slipfit" "${run[@]}" --set output.dir="$work/$name" "$@" \
+    >"$work/$name.out" 2>"$work/$name.err"; then
+    echo "FAIL: $name: mpirun succeeded"; exit 1
+  fi
+  [ ! -e "$work/$name/segments.ply" ] || { echo "FAIL: $name wrote segments.ply"; exit 1; }
+  [ -z "$(find "$work/$name.work" -name done 2>/dev/null)" ] ||
+    { echo "FAIL: $name ran tiles"; exit 1; }
+}
+mpmd other_config --set tiling.workdir="$work/other_config.work" --set segments.max_angle=25
+grep -q "this rank's config differs from the first rank's" "$work/other_config.err" ||
+  { echo "FAIL: other config not refused"; cat "$work/other_config.err"; exit 1; }
+mpmd other_workdir --set tiling.workdir="$work/elsewhere"
+grep -q "is not the one the first rank claimed" "$work/other_workdir.err" ||
+  { echo "FAIL: other workdir not refused"; cat "$work/other_workdir.err"; exit 1; }
 # A rank that dies (kill -9 once two tiles are done): mpirun ends the job with a non-zero exit,
 # rank 0 says no output was written and none is; a rerun in one process resumes from the
 # finished tiles and writes the sequential run's bytes.
@@ -59,5 +81,6 @@ done_before=$(sed -n 's/^tiling: [0-9]* tiles run, \([0-9]*\) already done.*/\1/
 for f in segments.ply primitives.yaml; do
   cmp "$work/sequential/$f" "$killed/$f" || { echo "FAIL: resumed $f differs"; exit 1; }
 done
-echo "PASS: $tiles tiles; 2 and 3 ranks wrote the sequential run's bytes; a killed rank left no" \
-  "output and the rerun resumed after $done_before tiles"
+echo "PASS: $tiles tiles; 2 and 3 ranks wrote the sequential run's bytes; ranks of another" \
+  "config or work directory were refused; a killed rank left no output and the rerun resumed" \
+  "after $done_before tiles"

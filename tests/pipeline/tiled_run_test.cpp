@@ -267,6 +267,63 @@ TEST(TiledRun, ARerunResumesAfterTheFinishedTilesWithTheSameOutputs) {
   EXPECT_THAT(r.out, HasSubstr("tiling: " + std::to_string(tiles) + " tiles run, 0 already done"));
 }
 
+/// Overwrites the first 8 bytes (the record count) of \a path with \a count.
+void writeCount(const std::string& path, std::uint64_t count) {
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  f.write(reinterpret_cast<const char*>(&count), 8);
+}
+
+// Issue 40: a resume verifies what it reuses. A finished tile whose samples.bin count is 0 or 2
+// (SIGFPE before) or 2^40 (bad_alloc before), or whose labels.bin lost its tail, is said not to
+// verify and is run again; a truncated tile file makes the tiling start anew. The outputs are
+// the first run's bytes each time.
+TEST(TiledRun, FilesThatDoNotVerifyAreRunAgainNeverTrusted) {
+  const SmallTiledRun run("tiled_verify");
+  CliResult r = runSlipfit(run.args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const int tiles = tilesIn(run.out + "/tiles");
+  const std::string segments = slurp(run.out + "/segments.ply");
+  const std::string report = slurp(run.out + "/primitives.yaml");
+  std::vector<std::string> runs;
+  for (const auto& e : fs::directory_iterator(run.out + "/tiles/runs"))
+    if (e.is_directory())
+      runs.push_back(e.path().string());
+  std::sort(runs.begin(), runs.end());
+  ASSERT_GE(runs.size(), 4u);
+  writeCount(runs[0] + "/samples.bin", 0);
+  writeCount(runs[1] + "/samples.bin", 2);
+  writeCount(runs[2] + "/samples.bin", std::uint64_t{1} << 40);
+  fs::resize_file(runs[3] + "/labels.bin", fs::file_size(runs[3] + "/labels.bin") - 1);
+  r = runSlipfit(run.args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (int k = 0; k < 3; ++k)
+    EXPECT_THAT(r.out, HasSubstr(fs::path(runs[k]).filename().string() +
+                                 "'s run does not verify (samples.bin is not the file the run "
+                                 "wrote (same size, other content)); running it again"));
+  EXPECT_THAT(r.out, HasSubstr(fs::path(runs[3]).filename().string() +
+                               "'s run does not verify (labels.bin is not the file the run wrote"));
+  EXPECT_THAT(r.out,
+              HasSubstr("tiling: 4 tiles run, " + std::to_string(tiles - 4) + " already done"));
+  EXPECT_EQ(slurp(run.out + "/segments.ply"), segments);
+  EXPECT_EQ(slurp(run.out + "/primitives.yaml"), report);
+
+  // A tile file cut short (a run killed while tiling, a full disk): tiled anew, same outputs.
+  std::vector<fs::path> tile_files;
+  for (const auto& e : fs::directory_iterator(run.out + "/tiles/tiles"))
+    tile_files.push_back(e.path());
+  std::sort(tile_files.begin(), tile_files.end());
+  const auto bytes = fs::file_size(tile_files[0]);
+  fs::resize_file(tile_files[0], bytes / 2);
+  r = runSlipfit(run.args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("tiling: " + tile_files[0].filename().string() + " holds " +
+                               std::to_string(bytes / 2) + " bytes, written " +
+                               std::to_string(bytes) + "; tiling anew"));
+  EXPECT_THAT(r.out, HasSubstr(std::to_string(tiles) + " tiles run, 0 already done"));
+  EXPECT_EQ(slurp(run.out + "/segments.ply"), segments);
+  EXPECT_EQ(slurp(run.out + "/primitives.yaml"), report);
+}
+
 /// x, y, z (as double, whatever their type) and the int fields of a PLY, per point.
 struct Rows {
   std::vector<Eigen::Vector3d> xyz;
@@ -409,21 +466,23 @@ TEST(TiledRun, StagesAreFoundByRoleNotByName) {
 TEST(TiledRun, FailuresSayWhatFailedAndWriteNoOutput) {
   const SmallTiledRun run("tiled_failures");
   ASSERT_EQ(runSlipfit(run.args).code, 0);
-  // An unreadable tile: its run fails, naming it; the outputs of the first run are left alone
-  // and no new one is written.
+  // A tile whose run cannot write (its run directory replaced by a file): the run fails, naming
+  // it; the outputs of the first run are left alone and no new one is written.
   const std::string before = slurp(run.out + "/segments.ply");
-  std::vector<fs::path> tiles;
-  for (const auto& e : fs::directory_iterator(run.out + "/tiles/tiles"))
-    tiles.push_back(e.path());
-  std::sort(tiles.begin(), tiles.end());
-  const std::string name = tiles[0].stem().string();
-  fs::resize_file(tiles[0], fs::file_size(tiles[0]) / 2);
-  fs::remove(run.out + "/tiles/runs/" + name + "/done");
+  std::vector<fs::path> runs;
+  for (const auto& e : fs::directory_iterator(run.out + "/tiles/runs"))
+    if (e.is_directory())
+      runs.push_back(e.path());
+  std::sort(runs.begin(), runs.end());
+  const std::string name = runs[0].filename().string();
+  fs::remove_all(runs[0]);
+  std::ofstream(runs[0]) << "in the way\n";
   CliResult r = runSlipfit(run.args);
   EXPECT_EQ(r.code, 1);
   EXPECT_THAT(r.err, HasSubstr("tile " + name));
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_EQ(slurp(run.out + "/segments.ply"), before);
+  EXPECT_EQ(slurp(runs[0].string()), "in the way\n");
 
   // A work directory that holds something else is not used.
   const std::string foreign = scratchDir("tiled_foreign");
@@ -432,7 +491,7 @@ TEST(TiledRun, FailuresSayWhatFailedAndWriteNoOutput) {
   r = runSlipfit(run.args + " --set tiling.workdir=" + foreign +
                  "/work --set output.dir=" + foreign + "/out");
   EXPECT_EQ(r.code, 1);
-  EXPECT_THAT(r.err, HasSubstr("not a tiled run's"));
+  EXPECT_THAT(r.err, HasSubstr("not a slipfit work directory"));
   EXPECT_EQ(slurp(foreign + "/work/notes.txt"), "mine\n");
   EXPECT_FALSE(fs::exists(foreign + "/out/segments.ply"));
 

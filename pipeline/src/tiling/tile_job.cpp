@@ -2,6 +2,8 @@
 
 #include "ply_rows.h"
 
+#include "../digest.h"
+
 #include "slipfit/pipeline/errors.h"
 
 #include <yaml-cpp/yaml.h>
@@ -43,6 +45,20 @@ std::uint64_t readCount(std::ifstream& in, const std::string& path) {
     throw RunError("'" + path + "': cannot be read");
   return n;
 }
+
+/// Throws RunError unless \a path holds \a header bytes and \a n records of \a record bytes
+/// (checked before anything is allocated for a count read from the file).
+void checkSize(const std::string& path, std::uint64_t header, std::uint64_t n,
+               std::uint64_t record) {
+  std::error_code ec;
+  const std::uint64_t bytes = std::filesystem::file_size(path, ec);
+  if (ec || n > (bytes - std::min(bytes, header)) / record || header + n * record != bytes)
+    throw RunError("'" + path + "': its count says " + std::to_string(n) + " records of " +
+                   std::to_string(record) + " bytes but the file holds " + std::to_string(bytes) +
+                   " bytes (damaged; remove the tile's 'done' to run it again)");
+}
+
+constexpr const char* kDoneHeader = "slipfit tile run 1";
 
 }  // namespace
 
@@ -156,8 +172,17 @@ void summariseTile(const std::string& run_dir, const std::string& segments_ply,
   if (!out)
     throw RunError("'" + samples_path + "': write failed (disk full?)");
 
+  // `done` last: the size and digest of every file the merge reads.
+  std::string record = std::string(kDoneHeader) + "\n";
+  for (const std::string& name : {segments_ply, primitives_yaml, std::string("labels.bin"),
+                                  std::string("segments.yaml"), std::string("samples.bin")}) {
+    std::uint64_t digest = 0, bytes = 0;
+    if (!detail::fileDigest(run_dir + "/" + name, digest, bytes))
+      throw RunError("'" + run_dir + "/" + name + "': cannot be read back");
+    record += name + " " + std::to_string(bytes) + " " + detail::hex(digest) + "\n";
+  }
   std::ofstream done(run_dir + "/done", std::ios::trunc);
-  done << "ok\n";
+  done << record;
   done.close();
   if (!done)
     throw RunError("'" + run_dir + "/done': write failed (disk full?)");
@@ -167,6 +192,7 @@ TileLabels readTileLabels(const std::string& run_dir) {
   const std::string path = run_dir + "/labels.bin";
   std::ifstream in(path, std::ios::binary);
   const std::uint64_t n = readCount(in, path);
+  checkSize(path, 16, n, 8 + 4 + 1);
   TileLabels l;
   l.owned = readCount(in, path);
   readArray(in, l.rows, n, path);
@@ -196,6 +222,7 @@ TileSamples readTileSamples(const std::string& run_dir) {
   const std::string path = run_dir + "/samples.bin";
   std::ifstream in(path, std::ios::binary);
   const std::uint64_t n = readCount(in, path);
+  checkSize(path, 8, n, 4 + 6 * 8 + 8);
   TileSamples s;
   readArray(in, s.labels, n, path);
   std::vector<double> values;
@@ -211,8 +238,47 @@ TileSamples readTileSamples(const std::string& run_dir) {
   return s;
 }
 
+bool tileDone(const std::string& run_dir, std::string& why) {
+  why.clear();
+  std::ifstream in(run_dir + "/done");
+  if (!in)
+    return false;
+  std::string line;
+  if (!std::getline(in, line) || line != kDoneHeader) {
+    why = "its 'done' is not a tile run's record";
+    return false;
+  }
+  int files = 0;
+  for (std::string name, digest; in >> name;) {
+    std::uint64_t bytes = 0, found_digest = 0, found_bytes = 0;
+    if (!(in >> bytes >> digest)) {
+      why = "its 'done' is cut short";
+      return false;
+    }
+    if (!detail::fileDigest(run_dir + "/" + name, found_digest, found_bytes)) {
+      why = name + " is missing";
+      return false;
+    }
+    if (found_bytes != bytes || detail::hex(found_digest) != digest) {
+      why = name + " is not the file the run wrote (" +
+            (found_bytes != bytes
+                 ? std::to_string(found_bytes) + " bytes, written " + std::to_string(bytes)
+                 : std::string("same size, other content")) +
+            ")";
+      return false;
+    }
+    ++files;
+  }
+  if (files != 5) {
+    why = "its 'done' lists " + std::to_string(files) + " files, not 5";
+    return false;
+  }
+  return true;
+}
+
 bool tileDone(const std::string& run_dir) {
-  return std::filesystem::is_regular_file(run_dir + "/done");
+  std::string why;
+  return tileDone(run_dir, why);
 }
 
 }  // namespace slipfit::pipeline::tiling

@@ -6,7 +6,9 @@
 /// - segments.yaml: per label its primitive type, core points, inlier distance, seed type;
 /// - samples.bin: per label up to kSamplesPerSegment of its core points (every k-th, in row
 ///   order) with normals, for the refit of the joined segments;
-/// - done: written last; a tile with it is not run again (resume).
+/// - done: written last, with the size and digest of each of those files and of the tile's
+///   segments.ply and primitives.yaml; a tile whose files verify against it is not run again
+///   (resume), one that does not is run again.
 
 #include "slipfit/pipeline/cloud_stream.h"
 
@@ -53,7 +55,10 @@ TileLabels readTileLabels(const std::string& run_dir);
 std::vector<TileSegment> readTileSegments(const std::string& run_dir);
 TileSamples readTileSamples(const std::string& run_dir);
 
-/// Whether the tile's run finished (its `done` file exists).
+/// Whether the tile's run finished and its files are the ones it wrote (sizes and digests as
+/// `done` records them). False with \a why empty when there is no `done` (the run did not end),
+/// false with \a why saying which file differs when they do not verify.
+bool tileDone(const std::string& run_dir, std::string& why);
 bool tileDone(const std::string& run_dir);
 
 }  // namespace slipfit::pipeline::tiling

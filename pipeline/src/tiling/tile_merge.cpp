@@ -43,6 +43,9 @@ struct Joined {
 /// coordinates taken relative to \a origin.
 void refit(Joined& j, const Eigen::Vector3d& origin) {
   const auto all = static_cast<Eigen::Index>(j.samples.size() / 7);
+  if (all == 0)  // every piece that owns points has a sample in a tile that verifies
+    throw RunError("a joined segment of " + std::to_string(j.core_points) +
+                   " points has no samples in its tiles' samples.bin");
   const Eigen::Index stride = (all + kMostRefitPoints - 1) / kMostRefitPoints;
   const Eigen::Index n = (all + stride - 1) / stride;
   Eigen::Matrix3Xd points(3, n), normals(3, n);

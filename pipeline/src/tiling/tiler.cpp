@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -120,15 +121,29 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
     m.hi[a] = -std::numeric_limits<double>::infinity();
   }
 
-  // Pass 1: each tile's points and core points.
+  // Pass 1: each tile's points and core points (no more than kMostTiles are counted: past them,
+  // only the extent, for the message).
   std::map<TileKey, TileInfo> tiles;
+  bool too_many = false;
+  const auto outside = [&](double x, double y) {
+    std::ostringstream why;
+    why << std::setprecision(17) << "input '" << input << "': coordinate (" << x << ", " << y
+        << ") is more than 2^53 tiles of tiling.size " << grid.size()
+        << " from the origin; set a larger tiling.size";
+    return RunError(why.str());
+  };
   const auto place = [&](double x, double y, const auto& visit) {
     try {
       grid.forEachCovering(x, y, visit);
     } catch (const std::invalid_argument&) {
-      throw RunError("input '" + input + "': coordinate (" + std::to_string(x) + ", " +
-                     std::to_string(y) + ") lies outside any tile of size " +
-                     std::to_string(grid.size()));
+      throw outside(x, y);
+    }
+  };
+  const auto ownerOf = [&](double x, double y) {
+    try {
+      return grid.owner(x, y);
+    } catch (const std::invalid_argument&) {
+      throw outside(x, y);
     }
   };
   m.dropped = forEachRow(
@@ -139,7 +154,10 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
           m.lo[a] = std::min(m.lo[a], p[a]);
           m.hi[a] = std::max(m.hi[a], p[a]);
         }
-        const TileKey own = grid.owner(x, y);
+        ++m.points;
+        if (too_many)
+          return;
+        const TileKey own = ownerOf(x, y);
         place(x, y, [&](TileKey t) {
           TileInfo& info = tiles[t];
           info.key = t;
@@ -147,11 +165,28 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
           if (t == own)
             ++info.core;
         });
-        ++m.points;
+        too_many = tiles.size() > 4 * kMostTiles;  // buffer-only tiles are not written
       },
       progress, 0, 2 * in.size());
   if (m.points == 0)
     throw RunError("input '" + input + "': no point with finite coordinates");
+  const std::size_t written = static_cast<std::size_t>(
+      std::count_if(tiles.begin(), tiles.end(), [](const auto& t) { return t.second.core > 0; }));
+  if (too_many || written > kMostTiles ||
+      static_cast<double>(m.points) < kFewestMeanTilePoints * static_cast<double>(written)) {
+    std::ostringstream why;
+    why << "input '" << input << "': tiles of size " << grid.size() << " over its extent "
+        << m.hi[0] - m.lo[0] << " x " << m.hi[1] - m.lo[1] << " make ";
+    if (too_many || written > kMostTiles)
+      why << (too_many ? "more than " + std::to_string(4 * kMostTiles) : std::to_string(written))
+          << " tiles, over the limit of " << kMostTiles;
+    else
+      why << written << " tiles of " << static_cast<double>(m.points) / written
+          << " points on average, under the " << kFewestMeanTilePoints
+          << " a tile needs to be segmented";
+    why << "; set a larger tiling.size";
+    throw RunError(why.str());
+  }
 
   // Pass 2: the rows of each tile, its fields plus tile_row and tile_core.
   std::vector<StreamField> fields = withoutFields(in.fields(), {"_"});  // PCD padding
@@ -186,7 +221,7 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
         copy.apply(row, row_out.data());
         const double row_index = static_cast<double>(index);
         std::memcpy(row_out.data() + kept_bytes, &row_index, 8);
-        const TileKey own = grid.owner(x, y);
+        const TileKey own = ownerOf(x, y);
         int holders = 0;
         place(x, y, [&](TileKey t) { holders += writers.count(t) ? 1 : 0; });
         place(x, y, [&](TileKey t) {
@@ -215,14 +250,29 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
     if (ec || bytes != plyHeader(fields, t.points).size() + t.points * tile_row_bytes)
       throw RunError("tile '" + path + "': write failed (disk full?)");
   }
+  for (TileInfo& t : m.tiles)
+    t.bytes = std::filesystem::file_size(dir + "/" + t.name() + ".ply");
   return m;
+}
+
+std::string verifyTiles(const TilingManifest& m, const std::string& dir) {
+  for (const TileInfo& t : m.tiles) {
+    std::error_code ec;
+    const std::uint64_t bytes = std::filesystem::file_size(dir + "/" + t.name() + ".ply", ec);
+    if (ec)
+      return t.name() + ".ply is missing";
+    if (bytes != t.bytes)
+      return t.name() + ".ply holds " + std::to_string(bytes) + " bytes, written " +
+             std::to_string(t.bytes);
+  }
+  return "";
 }
 
 std::string manifestText(const TilingManifest& m) {
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap;
-  out << YAML::Key << "slipfit_tiling" << YAML::Value << 1;
+  out << YAML::Key << "slipfit_tiling" << YAML::Value << 2;
   out << YAML::Key << "input" << YAML::Value << m.input;
   out << YAML::Key << "input_bytes" << YAML::Value << m.input_bytes;
   out << YAML::Key << "input_mtime" << YAML::Value << m.input_mtime;
@@ -237,7 +287,8 @@ std::string manifestText(const TilingManifest& m) {
       << m.hi[2] << YAML::EndSeq;
   out << YAML::Key << "tiles" << YAML::Value << YAML::BeginSeq;
   for (const TileInfo& t : m.tiles)
-    out << YAML::Flow << YAML::BeginSeq << t.key.i << t.key.j << t.points << t.core << YAML::EndSeq;
+    out << YAML::Flow << YAML::BeginSeq << t.key.i << t.key.j << t.points << t.core << t.bytes
+        << YAML::EndSeq;
   out << YAML::EndSeq << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
@@ -247,7 +298,7 @@ bool readManifest(const std::string& path, TilingManifest& m) {
     return false;
   try {
     const YAML::Node n = YAML::LoadFile(path);
-    if (!n.IsMap() || !n["slipfit_tiling"] || n["slipfit_tiling"].as<int>() != 1)
+    if (!n.IsMap() || !n["slipfit_tiling"] || n["slipfit_tiling"].as<int>() != 2)
       return false;
     m.input = n["input"].as<std::string>();
     m.input_bytes = n["input_bytes"].as<std::uint64_t>();
@@ -267,6 +318,7 @@ bool readManifest(const std::string& path, TilingManifest& m) {
       info.key = {t[0].as<std::int64_t>(), t[1].as<std::int64_t>()};
       info.points = t[2].as<std::uint64_t>();
       info.core = t[3].as<std::uint64_t>();
+      info.bytes = t[4].as<std::uint64_t>();
       m.tiles.push_back(info);
     }
     return true;

@@ -20,6 +20,7 @@ struct TileInfo {
   TileKey key;
   std::uint64_t points = 0;  ///< core and buffer
   std::uint64_t core = 0;    ///< points this tile owns
+  std::uint64_t bytes = 0;   ///< the tile file's size as written
   /// "tile_<i>_<j>": the tile's file (.ply) and run directory.
   std::string name() const { return "tile_" + std::to_string(key.i) + "_" + std::to_string(key.j); }
 };
@@ -45,10 +46,22 @@ void inputStamp(const std::string& path, std::uint64_t& bytes, std::int64_t& mti
 /// Writes the tiles of \a input into \a dir (created) and returns the manifest (not yet saved).
 /// \a progress(done, total) is called as rows are read. Throws RunError naming the file and row
 /// for unreadable input, a non-finite coordinate under NanPolicy::error, a coordinate outside the
-/// grid, and naming the tile for a failed write.
+/// grid, more than kMostTiles tiles or fewer than kFewestMeanTilePoints points a tile (before any
+/// tile is written), and naming the tile for a failed
+/// write.
 TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGrid& grid,
                           const std::string& dir,
                           const std::function<void(std::uint64_t, std::uint64_t)>& progress);
+
+/// The most tiles a tiling may make, and the fewest points a tile may own on average: past
+/// either the run is refused before any tile is written (a tile of a few points cannot be
+/// segmented; its file and run cost the same as a full one's).
+constexpr std::size_t kMostTiles = 100000;
+constexpr double kFewestMeanTilePoints = 100.0;
+
+/// "" when every tile file of \a manifest in \a dir has the size it was written with, else what
+/// differs ("tile_0_1.ply holds 120 bytes, written 4096").
+std::string verifyTiles(const TilingManifest& manifest, const std::string& dir);
 
 /// manifest.yaml's text, and the manifest read back (false when \a path is missing or not one).
 std::string manifestText(const TilingManifest& manifest);

@@ -101,6 +101,17 @@ std::size_t WorkDistribution::sum(std::size_t value) {
   return static_cast<std::size_t>(total);
 }
 
+std::string WorkDistribution::broadcast(const std::string& text) {
+  if (size_ == 1)
+    return text;
+  unsigned long long length = text.size();
+  MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+  std::vector<char> buffer(text.begin(), text.end());
+  buffer.resize(static_cast<std::size_t>(length));
+  MPI_Bcast(buffer.data(), static_cast<int>(length), MPI_CHAR, 0, MPI_COMM_WORLD);
+  return std::string(buffer.begin(), buffer.end());
+}
+
 #else  // one process
 
 WorkDistribution::WorkDistribution() = default;
@@ -117,6 +128,10 @@ void WorkDistribution::shareFailure(const std::string& failure) {
 
 std::size_t WorkDistribution::sum(std::size_t value) {
   return value;
+}
+
+std::string WorkDistribution::broadcast(const std::string& text) {
+  return text;
 }
 
 #endif

@@ -34,6 +34,9 @@ class WorkDistribution {
   /// Collective: the sum of \a value over the ranks.
   std::size_t sum(std::size_t value);
 
+  /// Collective: the leader's \a text, on every rank.
+  std::string broadcast(const std::string& text);
+
  private:
   /// The next tile for this process to run; n when none is left (one thread at a time).
   std::size_t take(std::size_t n);

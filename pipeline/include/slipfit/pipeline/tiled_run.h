@@ -14,6 +14,10 @@
 
 namespace slipfit::pipeline {
 
+/// What `validate` checks of a tiled run: the pipeline can be tiled and the work directory can be
+/// used (tiling/work_directory.h). Throws ConfigError or RunError as runTiled would.
+void checkTiledRun(const PipelineConfig& config);
+
 /// Runs \a config (tiling enabled) from \a config_path with \a overrides; returns the files
 /// written (on every rank; only rank 0 writes them). Throws ConfigError for a pipeline that
 /// cannot run in tiles and RunError for a failure (nothing is written then).
