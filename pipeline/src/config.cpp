@@ -5,12 +5,16 @@
 #include "slipfit/pipeline/registry.h"
 
 #include "file_checks.h"
+#include "yaml_limits.h"
 
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
+#include <fstream>
+#include <limits>
 #include <map>
 #include <set>
+#include <sstream>
 
 namespace slipfit::pipeline {
 
@@ -85,8 +89,12 @@ class Loader {
     } catch (const RunError& e) {
       fail(e.what());
     }
+    std::ifstream in(path_, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    detail::checkYamlLimits(text.str(), path_);
     try {
-      root_ = YAML::LoadFile(path_);
+      root_ = YAML::Load(text.str());
     } catch (const YAML::ParserException& e) {
       fail(at(e.mark) + "YAML syntax error: " + e.msg);
     } catch (const YAML::Exception& e) {
@@ -121,6 +129,9 @@ class Loader {
       parseSection(root["output"], "output", [&](OptionSet& o) { config.output.declare(o); });
     if (root["tiling"])
       parseSection(root["tiling"], "tiling", [&](OptionSet& o) { config.tiling.declare(o); });
+    if (config.tiling.enabled() && config.tiling.size < std::numeric_limits<double>::min())
+      fail(keyPlace("tiling", "size", root["tiling"]["size"].Mark()) +
+           "section 'tiling': size is too small to divide coordinates by (under 2.2e-308)");
     if (config.tiling.enabled() && config.tiling.bufferWidth() >= 0.5 * config.tiling.size)
       fail(keyPlace("tiling", "buffer", root["tiling"]["buffer"].Mark()) +
            "section 'tiling': buffer must be under size / 2");
@@ -183,12 +194,13 @@ class Loader {
     if (eq == std::string::npos || eq == 0)
       fail("--set " + text + ": expected KEY=VALUE, e.g. --set normals.k=30");
     const std::string key = text.substr(0, eq);
-    YAML::Node value;
-    try {
-      value = YAML::Load(text.substr(eq + 1));
-    } catch (const YAML::Exception& e) {
-      fail("--set " + text + ": the value is not valid YAML (" + e.what() + ")");
-    }
+    // The value is text, not YAML: no comment, tag, anchor or flow syntax is read in it (a
+    // "#" or "!!" is part of a path). Quotes around the whole value are taken off ('' or "" is
+    // the empty text). The option's type reads it: a vec3 option parses its [x, y, z] (applyMap).
+    std::string raw = text.substr(eq + 1);
+    if (raw.size() >= 2 && (raw.front() == '"' || raw.front() == '\'') && raw.back() == raw.front())
+      raw = raw.substr(1, raw.size() - 2);
+    const YAML::Node value(raw);
     const auto dot = key.find('.');
     if (dot == std::string::npos) {
       if (!settingsOptions().find(key)) {
@@ -262,7 +274,19 @@ class Loader {
       if (!option)
         fail(place + who + ": unknown key '" + key + "'; valid keys: " + options.namesText());
       try {
-        option->parse(kv.second);
+        const bool from_set = overrides_.count(section + "." + key) != 0;
+        if (from_set && option->type() == "vec3" && kv.second.IsScalar()) {
+          YAML::Node list;
+          try {
+            list = YAML::Load(kv.second.Scalar());
+          } catch (const YAML::Exception&) {
+            throw OptionValueError("expected a list of three numbers like [0, 0, 1], got '" +
+                                   kv.second.Scalar() + "'");
+          }
+          option->parse(list);
+        } else {
+          option->parse(kv.second);
+        }
       } catch (const OptionValueError& e) {
         fail(keyPlace(section, key, kv.second.Mark()) + who + ": key '" + key + "': " + e.what());
       }
@@ -289,6 +313,10 @@ class Loader {
     s.tag = node["tag"] ? node["tag"].Scalar() : s.type;
     if (s.tag.empty() || s.tag.find('.') != std::string::npos)
       fail(at(node["tag"].Mark()) + "stage tag '" + s.tag + "' must be non-empty and without dots");
+    if (kSections.count(s.tag))
+      fail(at(node["tag"] ? node["tag"].Mark() : node.Mark()) + "stage tag '" + s.tag +
+           "' is the name of a section (--set " + s.tag +
+           ".KEY sets the section); give the stage another tag");
     s.stage = info->make();
     OptionSet options;
     s.stage->declare(options);

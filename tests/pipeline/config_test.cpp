@@ -130,5 +130,76 @@ TEST(Config, MissingConfigFile) {
   EXPECT_THROW(loadConfig("/nonexistent/slipfit.yaml", {}), ConfigError);
 }
 
+// Issue 40: --set VALUE is text read by the option's type, never YAML: a "#" is not a comment, a
+// "!!" not a tag, a "*" not an alias; quotes around the whole value are taken off; a vec3 option
+// parses its list; a number option refuses text that is not a number.
+TEST(Config, SetValuesAreTextReadByTheOptionsType) {
+  const std::string path = testing::scratchFile("good.yaml", kGood);
+  PipelineConfig c = loadConfig(path, {"output.dir=results #3", "input.path=my scan #2.ply"});
+  EXPECT_EQ(c.output.dir, "results #3");
+  EXPECT_EQ(c.input.path, "my scan #2.ply");
+  c = loadConfig(path, {"output.dir=!!binary abc", "input.path=*x", "tiling.workdir=&a [b]"});
+  EXPECT_EQ(c.output.dir, "!!binary abc");
+  EXPECT_EQ(c.input.path, "*x");
+  EXPECT_EQ(c.tiling.workdir, "&a [b]");
+  c = loadConfig(path, {"output.cloud=\"\"", "output.dir='a b'", "nb.k=20"});
+  EXPECT_EQ(c.output.cloud, "");
+  EXPECT_EQ(c.output.dir, "a b");
+  c = loadConfig(path, {"normal_estimation.viewpoint=[1, 2.5, -3]"});
+  EXPECT_THAT(configError(kGood, {"nb.k=20 #3"}),
+              HasSubstr("--set nb.k=20 #3: stage 'nb' (neighborhood_selection): key 'k': "
+                        "expected an integer, got '20 #3'"));
+  EXPECT_THAT(configError(kGood, {"normal_estimation.viewpoint=1, 2, 3"}),
+              HasSubstr("key 'viewpoint': expected a list of three numbers like [0, 0, 1]"));
+  EXPECT_THAT(configError(kGood, {"normal_estimation.viewpoint=[1, 2"}),
+              HasSubstr("key 'viewpoint': expected a list of three numbers like [0, 0, 1], got "
+                        "'[1, 2'"));
+}
+
+// A stage tagged as a section could not be reached by --set (TAG.KEY would set the section).
+TEST(Config, AStageTagThatIsASectionsNameIsRefused) {
+  for (const char* tag : {"output", "input", "tiling", "stages"})
+    EXPECT_THAT(
+        configError(std::string("stages: [{type: neighborhood_selection, tag: ") + tag + "}]\n"),
+        HasSubstr(std::string("stage tag '") + tag + "' is the name of a section"));
+}
+
+// YAML limits: aliases that expand past 10^6 nodes (a "billion laughs" of 666 bytes), nesting
+// past 64 levels, and a second document are refused in one line that names the limit, before
+// anything is built from them; configs within the limits load as before.
+TEST(Config, YamlThatExpandsOrNestsPastTheLimitsIsRefused) {
+  std::string bomb = "a: &a [x, x, x, x, x, x, x, x, x, x]\n";
+  for (char name = 'b'; name <= 'i'; ++name) {
+    const char previous = static_cast<char>(name - 1);
+    bomb += std::string(1, name) + ": &" + name + " [";
+    for (int k = 0; k < 10; ++k)
+      bomb += std::string(k ? ", " : "") + "*" + previous;
+    bomb += "]\n";
+  }
+  bomb += "stages: [{type: neighborhood_selection}]\n";
+  ASSERT_LT(bomb.size(), 700u);  // 10^9 leaves once expanded
+  EXPECT_THAT(configError(bomb), HasSubstr("config_test.yaml:6: the YAML expands to more than "
+                                           "1000000 nodes"));
+  // Nesting: 64 levels load (and fail later for what they are), 65 do not.
+  const auto nested = [](int levels) {
+    return "stages: [{type: neighborhood_selection}]\nseed: " + std::string(levels, '[') +
+           std::string(levels, ']') + "\n";
+  };
+  EXPECT_THAT(configError(nested(63)), ::testing::Not(HasSubstr("levels")));
+  EXPECT_THAT(configError(nested(64)), HasSubstr("the YAML nests deeper than 64 levels"));
+  EXPECT_THAT(configError(nested(600)), HasSubstr("config_test.yaml:2: the YAML nests deeper"));
+  // An alias that brings a deep node deeper.
+  EXPECT_THAT(configError("a: &a " + std::string(40, '[') + std::string(40, ']') + "\nb: " +
+                          std::string(30, '[') + "*a" + std::string(30, ']') + "\nstages: []\n"),
+              HasSubstr("nests deeper than 64 levels once its aliases are expanded"));
+  EXPECT_THAT(configError(std::string(kGood) + "---\nstages: []\n"),
+              HasSubstr("config_test.yaml:9: a second YAML document (after '---')"));
+  // Anchors and aliases within the limits are still read.
+  const std::string path = testing::scratchFile(
+      "aliases.yaml",
+      "input: {path: &p a.ply}\noutput: {dir: *p}\nstages: [{type: neighborhood_selection}]\n");
+  EXPECT_EQ(loadConfig(path, {}).output.dir, "a.ply");
+}
+
 }  // namespace
 }  // namespace slipfit::pipeline
