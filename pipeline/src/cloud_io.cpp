@@ -2,6 +2,7 @@
 
 #include "slipfit/pipeline/errors.h"
 
+#include "data_guard.h"
 #include "file_checks.h"
 #include "header_guard.h"
 #include "ply/ply_header.h"
@@ -16,6 +17,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -238,6 +240,28 @@ Eigen::Vector3d globalShift(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi
 
 namespace {
 
+/// The points are analysed in float: squared distances (neighbour search, fits) must neither
+/// overflow (coordinates past ~1e19 square past FLT_MAX: FLANN aborts, normals fail) nor underflow
+/// (a cloud 1e-30 across squares under FLT_MIN). Throws RunError unless the local coordinates
+/// (after the global shift) reach at most kFarthestLocal and the cloud spans at least
+/// kNarrowestSpan (or nothing: a single point is refused later for what it is).
+constexpr double kFarthestLocal = 1e18, kNarrowestSpan = 1e-12;
+void checkFloatSpan(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                    const std::string& where) {
+  const double farthest = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).maxCoeff();
+  const double span = (hi - lo).maxCoeff();
+  std::ostringstream why;
+  why << std::setprecision(3);
+  if (farthest > kFarthestLocal)
+    why << where << "its coordinates reach " << farthest << " (after any global shift), past the "
+        << kFarthestLocal << " whose squared distances float holds; scale the cloud to other units";
+  else if (span > 0.0 && span < kNarrowestSpan)
+    why << where << "the cloud spans only " << span << ", under the " << kNarrowestSpan
+        << " whose squared distances float holds; scale the cloud to other units";
+  if (!why.str().empty())
+    throw RunError(why.str());
+}
+
 /// A file read by PCL into a blob, with the sensor pose its header gives.
 struct ReadBlob {
   pcl::PCLPointCloud2 blob;
@@ -249,10 +273,12 @@ struct ReadBlob {
 /// Reads \a path (.ply or .pcd, its header checked first) with PCL's reader; RunError for
 /// anything malformed, truncated, empty or whose fields do not fit their records.
 ReadBlob readBlob(const std::string& path, bool ply, const std::string& where) {
-  if (ply)
+  if (ply) {
     detail::checkPlyHeader(path, where);
-  else
-    detail::checkPcdHeaderText(path, where);
+    detail::checkPlyData(path, where);
+  } else {
+    detail::checkPcdHeaderText(path, where);  // and its data
+  }
   ReadBlob r;
   pcl::PCLPointCloud2& blob = r.blob;
   int version = 0;
@@ -483,8 +509,16 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   data.frame.double_coordinates = g.x->datatype == Field::FLOAT64 ||
                                   g.y->datatype == Field::FLOAT64 ||
                                   g.z->datatype == Field::FLOAT64;
-  if (data.frame.double_coordinates)
+  // 32-bit integers hold what float cannot (2^31 as float is 256 apart): shifted as doubles are.
+  const auto wide = [](const Field* f) {
+    return f->datatype == Field::FLOAT64 || f->datatype == Field::INT32 ||
+           f->datatype == Field::UINT32;
+  };
+  if (wide(g.x) || wide(g.y) || wide(g.z))
     data.frame.shift = globalShift(lo, hi);
+  if (data.frame.shift != Eigen::Vector3d::Zero())
+    data.frame.double_coordinates = true;  // written back as double: float cannot hold them
+  checkFloatSpan(lo - data.frame.shift, hi - data.frame.shift, where);
   data.sensor = sensorPose(read, ext == ".pcd", data.frame.shift);
   data.has_curvature = g.has_normals && g.curvature != nullptr;
   fillCloud(g, keep, data);

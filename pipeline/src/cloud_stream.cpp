@@ -295,9 +295,11 @@ void CloudStream::readRecords(std::uint64_t first, std::uint64_t count, std::vec
 
 void CloudStream::readAsciiRecords(std::uint64_t first, std::uint64_t count,
                                    std::vector<char>& rows) {
-  if (first < next_row_)
-    fail("ascii rows are read in order: row " + std::to_string(first) + " comes after row " +
-         std::to_string(next_row_));
+  if (first < next_row_) {  // a row behind: read again from the first (ascii has no seek)
+    in_.clear();
+    started_ = false;
+    next_row_ = 0;
+  }
   std::string line;
   if (!started_) {
     in_.seekg(static_cast<std::streamoff>(data_offset_));

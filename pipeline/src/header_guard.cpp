@@ -1,4 +1,5 @@
 #include "header_guard.h"
+#include "data_guard.h"
 #include "header_text.h"
 #include "ply/ply_header.h"
 
@@ -161,6 +162,10 @@ void checkPcdHeaderText(const std::string& path, const std::string& where) {
   std::size_t fields = 0;
   u64 points = 0, width = 0, height = 0;
   u64 compressed_at = 0;  // offset of the binary_compressed block's two sizes
+  u64 data_at = 0;        // after the last DATA line
+  std::string storage;    // its word: ascii, binary, binary_compressed
+  std::vector<std::string> names;
+  std::string types;
   auto record = [&] {
     u64 r = 0;
     for (std::size_t i = 0; i < fields; ++i)
@@ -204,8 +209,10 @@ void checkPcdHeaderText(const std::string& path, const std::string& where) {
       continue;
     if (startsWith("FIELDS") || startsWith("COLUMNS")) {
       fields = t.size() - 1;
+      names.assign(t.begin() + 1, t.end());
       sizes.clear();
       counts.clear();
+      types.clear();
     } else if (startsWith("SIZE")) {
       sizes = values(8, "SIZE");
       if (sizes.size() != fields)
@@ -218,6 +225,8 @@ void checkPcdHeaderText(const std::string& path, const std::string& where) {
         if (t[i + 1].size() != 1 || !knownPcdType(sizes[i], t[i + 1][0]))
           fail("TYPE '" + t[i + 1] + "' with SIZE " + std::to_string(sizes[i]) +
                " is not a type PCL reads");
+      for (std::size_t i = 0; i < fields; ++i)
+        types += t[i + 1][0];
     } else if (startsWith("COUNT")) {
       counts = values(1u << 20, "COUNT");
       if (counts.size() != fields || std::count(counts.begin(), counts.end(), 0u) > 0)
@@ -240,6 +249,8 @@ void checkPcdHeaderText(const std::string& path, const std::string& where) {
       const bool binary = t.size() >= 2 && t[1].rfind("binary", 0) == 0;
       factor = compressed ? 100 : binary ? 1 : 4;
       compressed_at = compressed ? pos : 0;
+      data_at = pos;
+      storage = t.size() >= 2 ? t[1] : "";
       continue;
     } else {
       break;
@@ -252,6 +263,14 @@ void checkPcdHeaderText(const std::string& path, const std::string& where) {
     checkCompressedBlock(
         path, where, compressed_at, file_size,
         saturatingMul(points != 0 ? points : saturatingMul(width, height), record()));
+  if (data_at != 0 && types.size() == fields) {
+    std::vector<PcdField> declared(fields);
+    for (std::size_t i = 0; i < fields; ++i)
+      declared[i] = {names[i], types[i], i < sizes.size() ? sizes[i] : 4,
+                     i < counts.size() ? counts[i] : 1};
+    checkPcdData(path, data_at, storage, declared,
+                 points != 0 ? points : saturatingMul(width, height), where);
+  }
 }
 
 void checkPcdLayout(const pcl::PCLPointCloud2& header, const std::string& where) {

@@ -21,7 +21,8 @@ namespace slipfit::pipeline::detail {
 void checkPlyHeader(const std::string& path, const std::string& where);
 
 /// Refuses a PCD header whose counts are not numbers or announce more data than the file can hold,
-/// and whose SIZE, TYPE or COUNT values PCL would turn into a broken record layout.
+/// and whose SIZE, TYPE or COUNT values PCL would turn into a broken record layout; then checks
+/// its data against it (data_guard.h).
 void checkPcdHeaderText(const std::string& path, const std::string& where);
 
 /// After PCL's PCDReader::readHeader, before PCDReader::read: every field must have a known type

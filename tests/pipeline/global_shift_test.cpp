@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <random>
 
@@ -151,6 +152,32 @@ TEST(GlobalShift, AFarCloudGivesTheNormalsAndFitOfTheSameCloudNearTheOrigin) {
   // float's step is at most 2⁻²³: written, then read back (shifted again by the same shift),
   // each rounding costs at most half a step.
   EXPECT_LE(worst_coordinate, std::ldexp(1.0, -23));
+}
+
+// Issue 40: int32 coordinates near 2^31 got no shift and were read as float, 256 apart there
+// (the automatic fit then found a sphere with 1106 of 2000 inliers). 32-bit integers are now
+// shifted as doubles are: every point comes back exactly, and the output keeps them as double.
+TEST(GlobalShift, Int32CoordinatesNearTwoToTheThirtyOneAreShiftedAndExact) {
+  const std::string dir = scratchDir("shift_int32");
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/plane.ply";
+  {
+    std::ofstream out(path);
+    out << "ply\nformat ascii 1.0\nelement vertex 2000\nproperty int x\nproperty int y\n"
+           "property int z\nend_header\n";
+    for (int i = 0; i < 2000; ++i)
+      out << 2147481647 + (i % 50) * 20 << " " << 2147481647 + (i / 50) * 20 << " "
+          << 2147483547 + (i % 3) - 1 << "\n";
+  }
+  const pipeline::PointData data = pipeline::readCloud(path, pipeline::NanPolicy::error);
+  ASSERT_NE(data.frame.shift, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(data.frame.double_coordinates);
+  for (int i = 0; i < 2000; ++i) {
+    const auto& p = (*data.cloud)[static_cast<std::size_t>(i)];
+    ASSERT_EQ(static_cast<double>(p.x) + data.frame.shift.x(), 2147481647.0 + (i % 50) * 20) << i;
+    ASSERT_EQ(static_cast<double>(p.y) + data.frame.shift.y(), 2147481647.0 + (i / 50) * 20) << i;
+    ASSERT_EQ(static_cast<double>(p.z) + data.frame.shift.z(), 2147483547.0 + (i % 3) - 1) << i;
+  }
 }
 
 }  // namespace

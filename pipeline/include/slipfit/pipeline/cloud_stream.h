@@ -1,7 +1,8 @@
 #pragma once
 /// \file The rows of a PLY or PCD file read by ranges, without loading the file: binary files (PLY
-/// little or big endian, PCD binary) by one seek per range, ascii files by reading on (their
-/// ranges must come in increasing order). The tiler of a tiled run streams its input through it
+/// little or big endian, PCD binary) by one seek per range, ascii files by reading on (a range
+/// before the rows already read starts the reading again from the first row: read in increasing
+/// order, each row is parsed once a pass). The tiler of a tiled run streams its input through it
 /// (docs/TILING.md). A PLY header is read by the parser the header guard uses (ply_header.h), not
 /// by PCL's PLYReader::readHeader, which reads the whole file.
 
@@ -49,7 +50,7 @@ class CloudStream {
 
   /// Reads points [first, first + count) as 3 × count doubles (as stored: a float widens
   /// exactly). Throws RunError when the range passes the end, when the file ends early or a value
-  /// does not parse, and, for ascii files, when \a first lies before the rows already read.
+  /// does not parse.
   void read(std::uint64_t first, std::uint64_t count, Eigen::Matrix3Xd& xyz);
 
  private:
