@@ -1,3 +1,4 @@
+#include "../png_file.h"
 #include "adapters.h"
 
 #include "slipfit/core/angle_units.h"
@@ -11,8 +12,6 @@
 #include "slipfit/render/splat_renderer.h"
 #include "slipfit/segmentation/segmentation.h"
 #include "slipfit/segmentation/segmentation_carry_back.h"
-
-#include <pcl/io/png_io.h>
 
 #include <algorithm>
 #include <array>
@@ -232,7 +231,7 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
       useSensorCamera(camera, data.sensor->origin, data.sensor->orientation, x);
     const std::vector<std::uint8_t> image = renderSplats(x, rgb, nn, camera);
     context.outputs->add(render_, [&](const std::string& path) {
-      pcl::io::saveRgbPNGFile(path, image.data(), camera.width, camera.height);
+      detail::writeRgbPng(path, image, camera.width, camera.height);
     });
   }
 

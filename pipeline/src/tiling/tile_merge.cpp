@@ -1,5 +1,6 @@
 #include "tile_merge.h"
 
+#include "../png_file.h"
 #include "ply_rows.h"
 #include "tile_job.h"
 #include "worker_pool.h"
@@ -11,8 +12,6 @@
 #include "slipfit/pipeline/primitives_report.h"
 #include "slipfit/render/segment_palette.h"
 #include "slipfit/tiling/segment_joining.h"
-
-#include <pcl/io/png_io.h>
 
 #include <algorithm>
 #include <cmath>
@@ -353,7 +352,7 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
       *camera.eye -= origin;  // the config's eye is in the input's frame
     const std::vector<std::uint8_t> image = renderSplats(x, rgb, normals, camera);
     outputs.add(render->name, [&](const std::string& path) {
-      pcl::io::saveRgbPNGFile(path, image.data(), camera.width, camera.height);
+      detail::writeRgbPng(path, image, camera.width, camera.height);
     });
   }
 
