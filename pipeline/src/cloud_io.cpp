@@ -456,27 +456,55 @@ void fillCloud(const GeometryFields& g, const std::vector<std::size_t>& keep, Po
   cloud.is_dense = true;
 }
 
-/// Every other scalar field of the kept rows, with its own type, into data.extra; returns them.
-std::vector<const Field*> carryExtraFields(const pcl::PCLPointCloud2& blob,
+/// A field of the input carried to the outputs as it is.
+struct CarriedField {
+  std::string name;
+  std::uint8_t datatype = 0;
+  std::size_t offset = 0;  ///< in the input's record
+};
+
+/// Every field of the kept rows that is not read as geometry, with its own type, into
+/// data.extra; returns them. A field of COUNT k > 1 (PCD) is carried as name_0 … name_{k−1};
+/// normal components that do not make a normal (nx without ny and nz, say) and a curvature
+/// without normals are carried as input_<name> (the normals slipfit writes have those names).
+std::vector<CarriedField> carryExtraFields(const pcl::PCLPointCloud2& blob, const GeometryFields& g,
                                            const std::vector<std::size_t>& keep, PointData& data) {
-  std::vector<const Field*> extra;
-  for (const auto& f : blob.fields)
-    if (!isGeometryField(f.name) && f.name != "_" && f.count == 1 && datatypeBytes(f.datatype) > 0)
-      extra.push_back(&f);
+  std::vector<CarriedField> extra;
+  for (const auto& f : blob.fields) {
+    const std::size_t bytes = datatypeBytes(f.datatype);
+    if (f.name == "_" || bytes == 0)
+      continue;
+    std::string name = f.name;
+    if (isGeometryField(f.name)) {
+      const bool read =
+          f.name == "x" || f.name == "y" || f.name == "z" ||
+          (g.has_normals && (&f == g.nx || &f == g.ny || &f == g.nz || &f == g.curvature));
+      // All-zero normals are placeholders (geometryFields): dropped, as documented there.
+      const bool placeholder =
+          !g.has_normals && g.nx && g.ny && g.nz && (&f == g.nx || &f == g.ny || &f == g.nz);
+      if (read || placeholder)
+        continue;
+      name = "input_" + f.name;
+    }
+    const std::uint32_t count = std::max<std::uint32_t>(f.count, 1);
+    for (std::uint32_t k = 0; k < count; ++k)
+      extra.push_back(
+          {count == 1 ? name : name + "_" + std::to_string(k), f.datatype, f.offset + k * bytes});
+  }
   pcl::PCLPointCloud2& out = data.extra;
   out.height = 1;
   out.width = static_cast<std::uint32_t>(keep.size());
   out.is_bigendian = false;
   out.is_dense = true;
-  for (const Field* f : extra)
-    appendField(out, f->name, f->datatype);
+  for (const CarriedField& f : extra)
+    appendField(out, f.name, f.datatype);
   out.row_step = out.point_step * out.width;
   out.data.resize(static_cast<std::size_t>(out.row_step));
   for (std::size_t j = 0; j < keep.size(); ++j)
     for (std::size_t e = 0; e < extra.size(); ++e)
       std::memcpy(out.data.data() + j * out.point_step + out.fields[e].offset,
-                  blob.data.data() + keep[j] * blob.point_step + extra[e]->offset,
-                  datatypeBytes(extra[e]->datatype));
+                  blob.data.data() + keep[j] * blob.point_step + extra[e].offset,
+                  datatypeBytes(extra[e].datatype));
   return extra;
 }
 
@@ -522,7 +550,7 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   data.sensor = sensorPose(read, ext == ".pcd", data.frame.shift);
   data.has_curvature = g.has_normals && g.curvature != nullptr;
   fillCloud(g, keep, data);
-  const std::vector<const Field*> extra = carryExtraFields(read.blob, keep, data);
+  const std::vector<CarriedField> extra = carryExtraFields(read.blob, g, keep, data);
 
   if (report) {
     report->points_read = n;
@@ -532,8 +560,8 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
     report->largest_coordinate = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).maxCoeff();
     report->first_missing_normal = first_missing_normal;
     report->extra_fields.clear();
-    for (const Field* f : extra)
-      report->extra_fields += (report->extra_fields.empty() ? "" : ", ") + f->name;
+    for (const CarriedField& f : extra)
+      report->extra_fields += (report->extra_fields.empty() ? "" : ", ") + f.name;
   }
   return data;
 }

@@ -35,7 +35,7 @@ void OutputSection::declare(OptionSet& o) {
         "File name of the output cloud inside dir (empty: none, when the stages write what is "
         "wanted).")
       .allowEmpty()
-      .fileName();
+      .fileName(".ply");
 }
 
 void TilingSection::declare(OptionSet& o) {

@@ -4,6 +4,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -77,6 +79,9 @@ std::string OptionSet::scalarText(const YAML::Node& node, const Option& option) 
                            (node.IsSequence() ? "list"
                             : node.IsMap()    ? "map"
                                               : "null"));
+  // A NUL would cut every message (and file name) that holds the value at that point.
+  if (node.Scalar().find('\0') != std::string::npos)
+    throw OptionValueError("holds a NUL character (\\0), which no name or number can hold");
   return node.Scalar();
 }
 
@@ -154,6 +159,15 @@ Option& OptionSet::add(std::string name, std::string& field, std::string help) {
                   throw OptionValueError(
                       "must be a plain file name inside output.dir (no directory part), got '" +
                       field + "'");
+                const std::string& ext = option.fileExtension();
+                if (!ext.empty() && !field.empty() &&
+                    (field.size() <= ext.size() ||
+                     !std::equal(ext.rbegin(), ext.rend(), field.rbegin(), [](char a, char b) {
+                       return std::tolower(static_cast<unsigned char>(a)) ==
+                              std::tolower(static_cast<unsigned char>(b));
+                     })))
+                  throw OptionValueError("'" + field + "' must end in " + ext +
+                                         ": slipfit writes this file in that format");
               });
 }
 

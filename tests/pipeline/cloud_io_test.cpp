@@ -338,5 +338,59 @@ TEST(CloudIo, BadFilesGiveOneClearError) {
               ::testing::AnyOf(HasSubstr("truncated"), HasSubstr("not a readable PLY")));
 }
 
+/// The values of \a name in \a extra, as float (every carried field here is float).
+std::vector<float> carried(const pcl::PCLPointCloud2& extra, const std::string& name) {
+  std::vector<float> values;
+  for (const auto& f : extra.fields)
+    if (f.name == name)
+      for (std::size_t i = 0; i < extra.width; ++i) {
+        float v = 0.0f;
+        std::memcpy(&v, extra.data.data() + i * extra.point_step + f.offset, 4);
+        values.push_back(v);
+      }
+  return values;
+}
+
+// Issue 40: a PCD field of COUNT 3 and a lone nx (no ny, nz: not a normal) vanished from the
+// outputs without a word. They are carried now, by a stated rule: COUNT k as name_0 … name_{k−1};
+// normal components that make no normal, and a curvature without normals, as input_<name>.
+TEST(CloudIo, FieldsOfSeveralValuesAndLoneNormalComponentsAreCarried) {
+  const std::string pcd = testing::scratchFile("count3.pcd", [] {
+    std::string text =
+        "VERSION 0.7\nFIELDS x y z hist\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 3\nWIDTH 30\n"
+        "HEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 30\nDATA ascii\n";
+    for (int i = 0; i < 30; ++i)
+      text += std::to_string(i % 5) + " " + std::to_string(i / 5) + " 0 " + std::to_string(i) +
+              " " + std::to_string(2 * i) + " " + std::to_string(3 * i) + "\n";
+    return text;
+  }());
+  ReadReport report;
+  PointData data = readCloud(pcd, NanPolicy::error, &report);
+  EXPECT_EQ(report.extra_fields, "hist_0, hist_1, hist_2");
+  for (int k = 0; k < 3; ++k) {
+    const std::vector<float> v = carried(data.extra, "hist_" + std::to_string(k));
+    ASSERT_EQ(v.size(), 30u) << k;
+    for (int i = 0; i < 30; ++i)
+      EXPECT_EQ(v[static_cast<std::size_t>(i)], static_cast<float>((k + 1) * i)) << k << " " << i;
+  }
+  const std::string ply = testing::scratchFile("lone_nx.ply", [] {
+    std::string text =
+        "ply\nformat ascii 1.0\nelement vertex 30\nproperty float x\nproperty float y\n"
+        "property float z\nproperty float nx\nproperty float curvature\nend_header\n";
+    for (int i = 0; i < 30; ++i)
+      text += std::to_string(i % 5) + " " + std::to_string(i / 5) + " 0 " + std::to_string(i) +
+              " 0.5\n";
+    return text;
+  }());
+  data = readCloud(ply, NanPolicy::error, &report);
+  EXPECT_FALSE(data.has_normals);
+  EXPECT_EQ(report.extra_fields, "input_normal_x, input_curvature");  // PCL names nx normal_x
+  const std::vector<float> nx = carried(data.extra, "input_normal_x");
+  ASSERT_EQ(nx.size(), 30u);
+  for (int i = 0; i < 30; ++i)
+    EXPECT_EQ(nx[static_cast<std::size_t>(i)], static_cast<float>(i));
+  EXPECT_EQ(carried(data.extra, "input_curvature"), std::vector<float>(30, 0.5f));
+}
+
 }  // namespace
 }  // namespace slipfit::pipeline

@@ -34,11 +34,11 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
     o.add("report", report_, "File name of the YAML report (one entry per segment).").fileName();
     o.add("segments", segments_,
           "File name of the PLY of every point with label, primitive and red/green/blue.")
-        .fileName();
+        .fileName(".ply");
     o.add("segment_files", segment_files_, "Also write each segment as segment_<label>.ply.");
     o.add("render", render_, "File name of a PNG picture of the segments (empty: none).")
         .allowEmpty()
-        .fileName();
+        .fileName(".png");
     o.bind(render_parameters_);
   }
 

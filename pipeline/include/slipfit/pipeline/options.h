@@ -95,11 +95,15 @@ class Option {
   bool allowsEmpty() const { return allow_empty_; }
   /// A string option naming an output file: a plain file name inside output.dir (no directory
   /// part, not "." or ".."), checked when the config is read, so `validate` refuses it too.
-  Option& fileName() {
+  /// A file name in the output directory (no path); with \a extension, one that ends in it (the
+  /// format slipfit writes the file in: a cloud named .pcd would still be PLY).
+  Option& fileName(std::string extension = "") {
     file_name_ = true;
+    extension_ = std::move(extension);
     return *this;
   }
   bool isFileName() const { return file_name_; }
+  const std::string& fileExtension() const { return extension_; }
 
  private:
   Option& lowBound(double lo, bool open) {
@@ -111,7 +115,7 @@ class Option {
     return *this;
   }
 
-  std::string name_, type_, default_, help_, unit_;
+  std::string name_, type_, default_, help_, unit_, extension_;
   ParameterRange range_;
   bool required_ = false;
   bool allow_empty_ = false;
