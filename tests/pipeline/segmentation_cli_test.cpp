@@ -139,6 +139,14 @@ TEST(SegmentationCli, ReportsEveryStepAndCarriesFieldsBackOnRequest) {
                                                 ": [0-9.]+ s, peak memory [0-9]+ MB \\([0-9]+ B "
                                                 "per point\\)"))
         << step;
+  // The segmentation's own time, phase by phase (issue 35), every phase of docs/THEORY.md §6.
+  EXPECT_THAT(r.out, ::testing::ContainsRegex(
+                         "  phases: estimate_scale [0-9.]+ s, grow_slippage_seeds [0-9.]+ s, "
+                         "grow_free_seeds [0-9.]+ s, merge_regions [0-9.]+ s, revise_types "
+                         "[0-9.]+ s, recover_fillets [0-9.]+ s, refine_boundaries [0-9.]+ s, "
+                         "join_creases [0-9.]+ s, recover_small_faces [0-9.]+ s, absorb_fragments "
+                         "[0-9.]+ s, merge_settled_regions [0-9.]+ s, drop_non_surfaces [0-9.]+ s, "
+                         "finalize [0-9.]+ s\n"));
   const auto all = pipeline::readCloud(out + "/cloud.ply", pipeline::NanPolicy::error);
   const auto segments = pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
   ASSERT_EQ(all.size(), 50000u);

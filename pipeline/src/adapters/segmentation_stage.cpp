@@ -1,4 +1,5 @@
 #include "../png_file.h"
+#include "slipfit/pipeline/progress.h"
 #include "adapters.h"
 
 #include "slipfit/core/angle_units.h"
@@ -16,6 +17,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iomanip>
 #include <ostream>
 #include <utility>
 
@@ -86,6 +88,8 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
     segmentation.setLocalTypes(std::shared_ptr<const std::vector<SlippageType>>(
         std::shared_ptr<void>(), local));  // a view: the field outlives the call
     segmentation.setParameters(parameters);
+    segmentation.setPhaseListener(
+        [&](std::string_view phase) { context.progress.note(std::string(phase)); });
     std::vector<pcl::PointIndices> clusters;
     segmentation.segment(clusters);
     SegmentationResult result = segmentation.releaseResult();
@@ -130,6 +134,11 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
                    << data.size() << " points assigned (distance " << result.distance << ", "
                    << result.merges << " merges, " << result.absorbed << " fragments absorbed, "
                    << result.fillets << " fillets)\n";
+    context.report << "  phases:" << std::fixed << std::setprecision(2);
+    for (const PhaseTiming& t : result.timings)
+      context.report << " " << t.phase << " " << t.seconds << " s"
+                     << (&t == &result.timings.back() ? "" : ",");
+    context.report << std::defaultfloat << std::setprecision(6) << "\n";
     if (result.lattice.detected())
       context.report << "segmentation: coordinate "
                      << "xyz"[result.lattice.axis] << " is recorded on levels up to "

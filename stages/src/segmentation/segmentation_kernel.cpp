@@ -3,6 +3,7 @@
 #include "phases/phases.h"
 
 #include <algorithm>
+#include <chrono>
 
 namespace slipfit {
 
@@ -44,6 +45,16 @@ SegmentationKernel::SegmentationKernel(const Eigen::Ref<const Eigen::Matrix3Xd>&
     : state_(points, normals, neighborhoods, local_types, parameters) {}
 
 void SegmentationKernel::run(Phase phase) {
+  if (on_phase_)
+    on_phase_(phaseName(phase));
+  const auto start = std::chrono::steady_clock::now();
+  runPhase(phase);
+  state_.result.timings.push_back(
+      {std::string(phaseName(phase)),
+       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
+}
+
+void SegmentationKernel::runPhase(Phase phase) {
   SegmentationState& s = state_;
   switch (phase) {
     case Phase::estimate_scale:
@@ -82,7 +93,14 @@ void SegmentationKernel::runPhases(Phase first, Phase last, std::initializer_lis
 }
 
 SegmentationResult SegmentationKernel::finalize() {
-  return phases::finalize(state_);
+  if (on_phase_)
+    on_phase_("finalize");
+  const auto start = std::chrono::steady_clock::now();
+  SegmentationResult result = phases::finalize(state_);
+  result.timings.push_back(
+      {"finalize",
+       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
+  return result;
 }
 
 }  // namespace slipfit

@@ -10,6 +10,7 @@
 #include <pcl/point_types.h>
 
 #include <array>
+#include <chrono>
 #include <random>
 #include <string>
 
@@ -389,6 +390,46 @@ TEST(SegmentationKernel, RecoverSmallFacesFindsTheWallsOfSmallHoles) {
         EXPECT_LE(found, 1) << "seed " << seed;
     }
   }
+}
+
+// Issue 35: the run says where its time goes. Every phase run is timed once, in the order run
+// (skipped phases are absent), then finalize; the listener hears the same names as each starts.
+// The seconds are wall times: they add up to no more than the whole run's.
+TEST(SegmentationKernel, EveryPhaseRunIsTimedAndAnnouncedInOrder) {
+  const auto cloud = sampledCloud(bandedCone());
+  const Inputs in = prepare(cloud, 12);
+  SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
+  std::vector<std::string> heard;
+  kernel.setPhaseListener([&](std::string_view phase) { heard.emplace_back(phase); });
+  const auto start = std::chrono::steady_clock::now();
+  kernel.runPhases(Phase::estimate_scale, Phase::drop_non_surfaces, {Phase::recover_fillets});
+  const SegmentationResult r = kernel.finalize();
+  const double whole =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::vector<std::string> expected;
+  for (int k = static_cast<int>(Phase::estimate_scale);
+       k <= static_cast<int>(Phase::drop_non_surfaces); ++k)
+    if (static_cast<Phase>(k) != Phase::recover_fillets)
+      expected.emplace_back(phaseName(static_cast<Phase>(k)));
+  expected.emplace_back("finalize");
+  EXPECT_EQ(heard, expected);
+  ASSERT_EQ(r.timings.size(), expected.size());
+  double sum = 0.0;
+  for (std::size_t k = 0; k < expected.size(); ++k) {
+    EXPECT_EQ(r.timings[k].phase, expected[k]);
+    EXPECT_GE(r.timings[k].seconds, 0.0) << expected[k];
+    sum += r.timings[k].seconds;
+  }
+  EXPECT_LE(sum, whole);
+  // segmentBySlippage runs them all, and tells its listener too.
+  heard.clear();
+  const SegmentationResult all =
+      segmentBySlippage(in.points, in.normals, *in.hoods, in.types, {},
+                        [&](std::string_view phase) { heard.emplace_back(phase); });
+  EXPECT_EQ(all.timings.size(), 13u);
+  EXPECT_EQ(heard.size(), 13u);
+  EXPECT_EQ(heard.front(), "estimate_scale");
+  EXPECT_EQ(heard.back(), "finalize");
 }
 
 }  // namespace

@@ -14,6 +14,9 @@ class Progress {
   bool enabled() const { return enabled_; }
   /// Starts step \a index of \a count.
   void begin(std::size_t index, std::size_t count, const std::string& label);
+  /// Names what the current step is doing now ("merge_regions"): the step's line is rewritten
+  /// in place with it.
+  void note(const std::string& detail);
   /// Ends the current step.
   void end();
   /// A whole line for a piece of step \a index that took \a seconds (pieces that run at the same
@@ -24,6 +27,8 @@ class Progress {
 
  private:
   bool enabled_ = false;
+  std::size_t index_ = 0, count_ = 0;
+  bool noted_ = false;
   std::string label_;
   std::chrono::steady_clock::time_point start_;
 };

@@ -17,6 +17,10 @@
 
 #include <Eigen/Core>
 
+#include <functional>
+#include <string>
+#include <string_view>
+
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -90,6 +94,15 @@ struct Segment {
   std::optional<SlippageResult> slippage;
 };
 
+/// The wall time of one phase of a run (docs/THEORY.md §6; phaseName's names, then
+/// "finalize"): where the segmentation spends its time, for the report and the profile script.
+/// Not part of the result's content: two runs give the same labels and segments, not the same
+/// seconds.
+struct PhaseTiming {
+  std::string phase;
+  double seconds = 0.0;
+};
+
 struct SegmentationResult {
   std::vector<std::int32_t> labels;  ///< per point: segment index, −1 unassigned
   std::vector<Segment> segments;     ///< largest first
@@ -121,16 +134,19 @@ struct SegmentationResult {
   /// Regions dropped because their points fill the tolerance slab like random points (RMS
   /// distance above 0.45 ε), not a surface: a cloud of noise gives no segment.
   std::size_t volumes = 0;
+  std::vector<PhaseTiming> timings;  ///< each phase run, in order, then finalize
 };
 
 /// Segments a cloud (3 × N points and normals, any sign) given each point's neighbors and local
 /// slippage type. Deterministic; throws DegenerateInputError on mismatched sizes or an empty
 /// cloud.
+/// \a on_phase, when given, is called with each phase's name as it starts (a progress display).
 SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                                      const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
                                      const Neighborhoods& neighborhoods,
                                      const std::vector<SlippageType>& local_types,
-                                     const SegmentationParameters& parameters = {});
+                                     const SegmentationParameters& parameters = {},
+                                     const std::function<void(std::string_view)>& on_phase = {});
 
 /// PCL-style front end: setInputCloud() (a point type with normals), setNeighborhoods() and
 /// setLocalSlippage() (both over the whole cloud: LocalSlippage, NeighborhoodSelection), optionally
@@ -155,6 +171,10 @@ class SlippageSegmentation : public pcl::PCLBase<PointT> {
   }
   /// Checked when the work runs (one validation, PCL's initCompute convention).
   void setParameters(const SegmentationParameters& parameters) { parameters_ = parameters; }
+  /// Called with each phase's name as it starts (e.g. to show progress); none by default.
+  void setPhaseListener(std::function<void(std::string_view)> listener) {
+    on_phase_ = std::move(listener);
+  }
   void segment(std::vector<pcl::PointIndices>& clusters);
   const SegmentationResult& result() const { return result_; }
   /// Moves the result out (result() is empty afterwards): no copy of the labels.
@@ -169,6 +189,7 @@ class SlippageSegmentation : public pcl::PCLBase<PointT> {
   typename pcl::PointCloud<PointSlippage>::ConstPtr slippage_;
   std::shared_ptr<const std::vector<SlippageType>> types_;
   SegmentationParameters parameters_;
+  std::function<void(std::string_view)> on_phase_;
   SegmentationResult result_;
 };
 

@@ -11,7 +11,9 @@
 
 #include <Eigen/Core>
 
+#include <functional>
 #include <initializer_list>
+#include <string_view>
 #include <vector>
 
 namespace slipfit {
@@ -28,11 +30,17 @@ class SegmentationKernel {
                      const std::vector<SlippageType>& local_types,
                      const SegmentationParameters& parameters);
 
-  /// Runs one phase.
+  /// Called with each phase's name as it starts (a progress display); none by default.
+  void setPhaseListener(std::function<void(std::string_view)> listener) {
+    on_phase_ = std::move(listener);
+  }
+
+  /// Runs one phase; its wall time goes to progress().timings.
   void run(Phase phase);
   /// Runs the phases from \a first to \a last in their order, except those in \a skip.
   void runPhases(Phase first, Phase last, std::initializer_list<Phase> skip = {});
-  /// Ends the run: the result with its segments largest first, each refitted on all its members.
+  /// Ends the run: the result with its segments largest first, each refitted on all its members
+  /// (its time last in timings, as "finalize").
   SegmentationResult finalize();
 
   /// The regions so far (empty member lists are regions dropped or merged away).
@@ -43,7 +51,11 @@ class SegmentationKernel {
   const SegmentationResult& progress() const { return state_.result; }
 
  private:
+  /// Runs one phase (no timing).
+  void runPhase(Phase phase);
+
   SegmentationState state_;
+  std::function<void(std::string_view)> on_phase_;
 };
 
 }  // namespace slipfit

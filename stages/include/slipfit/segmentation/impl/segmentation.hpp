@@ -60,8 +60,8 @@ void SlippageSegmentation<PointT>::segment(std::vector<pcl::PointIndices>& clust
       }
     subset.append(ids.data(), sqr.data(), ids.size());
   }
-  result_ =
-      segmentBySlippage(points, normals, whole ? *neighborhoods_ : subset, types, parameters_);
+  result_ = segmentBySlippage(points, normals, whole ? *neighborhoods_ : subset, types, parameters_,
+                              on_phase_);
   if (!whole) {
     // Back to cloud indices: labels for every cloud point (−1 outside the indices).
     std::vector<std::int32_t> labels(n, -1);
