@@ -39,6 +39,6 @@ for cloud in "${clouds[@]}"; do
       for (i = 1; i <= n; ++i) for (j = i + 1; j <= n; ++j)
         if (t[order[j]] > t[order[i]]) { x = order[i]; order[i] = order[j]; order[j] = x }
       for (i = 1; i <= n; ++i)
-        printf "  phase %-22s %7.2f s  %5.1f %%\n", order[i], t[order[i]], total > 0 ? 100 * t[order[i]] / total : 0
+        printf "  phase %-22s %7.2f s  %5.1f %%\n", order[i], t[order[i]], (total > 0 ? 100 * t[order[i]] / total : 0)
     }'
 done
