@@ -12,11 +12,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <regex>
+#include <optional>
 #include <system_error>
 
 namespace slipfit::pipeline {
@@ -69,9 +70,51 @@ std::string hostTag() {
 
 }  // namespace
 
+namespace {
+
+/// The parts of a temporary name `.<stem>.tmp.<host>-<pid>.<6 characters><ext>[.previous]`.
+struct TemporaryName {
+  std::string final_name, host;
+  long pid = 0;
+  bool previous = false;
+};
+
+std::optional<TemporaryName> parseTemporaryName(std::string name) {
+  TemporaryName t;
+  const std::string kPrevious = ".previous";
+  if (name.size() > kPrevious.size() &&
+      name.compare(name.size() - kPrevious.size(), kPrevious.size(), kPrevious) == 0) {
+    t.previous = true;
+    name.resize(name.size() - kPrevious.size());
+  }
+  const std::size_t tmp = name.rfind(".tmp.");
+  if (name.size() < 2 || name[0] != '.' || tmp == std::string::npos || tmp < 2)
+    return std::nullopt;
+  const std::string stem = name.substr(1, tmp - 1);
+  const std::string rest = name.substr(tmp + 5);  // <host>-<pid>.<6 characters><ext>
+  const std::size_t dash = rest.find('-'),
+                    dot = rest.find('.', dash == std::string::npos ? 0 : dash);
+  if (dash != 8 || dot == std::string::npos || dot == dash + 1 || dot - dash - 1 > 9 ||
+      rest.size() < dot + 7)
+    return std::nullopt;
+  t.host = rest.substr(0, 8);
+  const std::string pid = rest.substr(dash + 1, dot - dash - 1);
+  const std::string random = rest.substr(dot + 1, 6), ext = rest.substr(dot + 7);
+  const auto all = [](const std::string& text, int (*is)(int)) {
+    return std::all_of(text.begin(), text.end(),
+                       [&](char c) { return is(static_cast<unsigned char>(c)) != 0; });
+  };
+  if (!all(t.host, ::isxdigit) || !all(pid, ::isdigit) || !all(random, ::isalnum) ||
+      (!ext.empty() && (ext[0] != '.' || ext.find('.', 1) != std::string::npos)))
+    return std::nullopt;
+  t.pid = std::stol(pid);
+  t.final_name = stem + ext;
+  return t;
+}
+
+}  // namespace
+
 std::vector<std::string> removeLeftovers(const std::string& dir, const std::string& input) {
-  static const std::regex pattern(
-      R"(\.(.+)\.tmp\.([0-9a-f]{8})-([0-9]{1,9})\.[A-Za-z0-9]{6}(\.[^.]*)?(\.previous)?)");
   std::vector<std::string> done;
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
@@ -82,19 +125,19 @@ std::vector<std::string> removeLeftovers(const std::string& dir, const std::stri
   std::sort(names.begin(), names.end());
   for (const fs::path& path : names) {
     const std::string name = path.filename().string();
-    std::smatch m;
-    if (!std::regex_match(name, m, pattern) || m[2].str() != hostTag())
+    const std::optional<TemporaryName> m = parseTemporaryName(name);
+    if (!m || m->host != hostTag())
       continue;
-    const long pid = std::stol(m[3].str());
+    const long pid = m->pid;
     if (pid == ::getpid() || ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH)
       continue;  // its process is alive (or not ours to ask about)
     struct stat st = {};
     if (::lstat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != ::getuid() ||
         (!input.empty() && fs::equivalent(path, input, ec)))
       continue;
-    const fs::path final_path = path.parent_path() / (m[1].str() + m[4].str());
+    const fs::path final_path = path.parent_path() / m->final_name;
     struct stat there = {};
-    if (m[5].matched && ::lstat(final_path.c_str(), &there) != 0) {
+    if (m->previous && ::lstat(final_path.c_str(), &there) != 0) {
       if (::rename(path.c_str(), final_path.c_str()) == 0)
         done.push_back("put back " + final_path.filename().string() + " (kept aside as " + name +
                        ")");

@@ -14,7 +14,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <regex>
 #include <set>
 
 namespace slipfit::testing {
@@ -183,10 +182,9 @@ std::string temporaryOf(const std::string& dir, const std::string& name, long pi
     OutputFiles out(dir);
     out.add(name, [&](const std::string& p) { tmp = fs::path(p).filename().string(); });
   }  // not committed: removed
-  // .<stem>.tmp.<host>-<pid>.<6 characters><extension>
-  const std::regex pid_part(R"(-[0-9]+\.)");
-  return std::regex_replace(tmp, pid_part, "-" + std::to_string(pid) + ".",
-                            std::regex_constants::format_first_only);
+  // .<stem>.tmp.<host>-<pid>.<6 characters><extension>: the digits after the host's dash.
+  const std::size_t dash = tmp.find('-', tmp.rfind(".tmp.")), dot = tmp.find('.', dash);
+  return tmp.substr(0, dash + 1) + std::to_string(pid) + tmp.substr(dot);
 }
 
 // Issue 40: a run killed by SIGKILL (no handler runs) leaves its temporary files; the next run in
