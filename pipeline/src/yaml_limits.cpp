@@ -38,6 +38,12 @@ class Counter : public YAML::EventHandler {
     leaf(mark, anchor);
   }
   void OnAlias(const YAML::Mark& mark, YAML::anchor_t anchor) override {
+    // An alias inside the collection its anchor names would make the node its own descendant:
+    // yaml-cpp builds that cycle, and every walk of it recurses until the stack overflows.
+    if (anchor != YAML::NullAnchor &&
+        std::find(anchor_of_.begin(), anchor_of_.end(), anchor) != anchor_of_.end())
+      throw ConfigError(path_ + ":" + std::to_string(mark.line + 1) +
+                        ": the YAML has an alias inside the anchor it names (a cycle)");
     const Extent e = anchor < anchors_.size() ? anchors_[anchor] : Extent{1, 0};
     add(mark, e);
   }

@@ -14,7 +14,8 @@ constexpr std::size_t kMostYamlNodes = 1000000;  ///< after alias expansion
 constexpr std::size_t kDeepestYaml = 64;         ///< nested lists and maps
 
 /// Throws ConfigError naming \a path, the line and the limit when \a text expands past
-/// kMostYamlNodes nodes, nests deeper than kDeepestYaml levels or holds a second document.
+/// kMostYamlNodes nodes, nests deeper than kDeepestYaml levels, holds a second document or an
+/// alias inside the anchor it names (a cycle).
 /// Syntax errors are left to the loader (which says them with their place).
 void checkYamlLimits(const std::string& text, const std::string& path);
 

@@ -192,6 +192,11 @@ TEST(Config, YamlThatExpandsOrNestsPastTheLimitsIsRefused) {
   EXPECT_THAT(configError("a: &a " + std::string(40, '[') + std::string(40, ']') + "\nb: " +
                           std::string(30, '[') + "*a" + std::string(30, ']') + "\nstages: []\n"),
               HasSubstr("nests deeper than 64 levels once its aliases are expanded"));
+  // An alias inside the anchor it names: a cycle every walk of the config would follow forever
+  // (found by fuzz.config: a stack overflow).
+  EXPECT_THAT(configError("a: &a [x, *a]\nstages: []\n"),
+              HasSubstr("config_test.yaml:1: the YAML has an alias inside the anchor it names"));
+  EXPECT_THAT(configError("a: &m {b: {c: *m}}\nstages: []\n"), HasSubstr("(a cycle)"));
   EXPECT_THAT(configError(std::string(kGood) + "---\nstages: []\n"),
               HasSubstr("config_test.yaml:9: a second YAML document (after '---')"));
   // Anchors and aliases within the limits are still read.
