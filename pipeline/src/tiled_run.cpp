@@ -400,16 +400,20 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   // thread (more than one when fewer tiles than threads are left). Whole tiles in parallel use
   // the cores better than one tile's stages do, and the outputs do not depend on the threads.
   const auto tiles_start = std::chrono::steady_clock::now();
-  std::size_t to_run = 0;
-  for (const TileInfo& tile : manifest.tiles) {
-    std::string why;
-    if (tileDone(runs_dir + "/" + tile.name(), why))
-      continue;
-    ++to_run;
-    if (!why.empty())
-      report << "tiling: " << tile.name() << "'s run does not verify (" << why
-             << "); running it again\n";
-  }
+  // Which tile runs verify: read and digested once, by the leader, and shared with the ranks
+  // ('1': done), not once by every rank and again by the worker that takes the tile.
+  std::string verified(manifest.tiles.size(), '0');
+  if (work.leader())
+    for (std::size_t t = 0; t < manifest.tiles.size(); ++t) {
+      std::string why;
+      if (tileDone(runs_dir + "/" + manifest.tiles[t].name(), why))
+        verified[t] = '1';
+      else if (!why.empty())
+        report << "tiling: " << manifest.tiles[t].name() << "'s run does not verify (" << why
+               << "); running it again\n";
+    }
+  verified = work.broadcast(verified);
+  const auto to_run = static_cast<std::size_t>(std::count(verified.begin(), verified.end(), '0'));
   const int threads = resolveThreads(config.settings.threads);
   const int workers =
       static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(threads, to_run)));
@@ -423,7 +427,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
     work.forEachTile(manifest.tiles.size(), workers, [&](std::size_t t) {
       const TileInfo& tile = manifest.tiles[t];
       const std::string run_dir = runs_dir + "/" + tile.name();
-      if (tileDone(run_dir))
+      if (verified[t] == '1')
         return;
       const auto tile_start = std::chrono::steady_clock::now();
       // The pipeline as configured (the user's overrides included), on the tile: its input and

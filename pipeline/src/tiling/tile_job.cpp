@@ -276,9 +276,4 @@ bool tileDone(const std::string& run_dir, std::string& why) {
   return true;
 }
 
-bool tileDone(const std::string& run_dir) {
-  std::string why;
-  return tileDone(run_dir, why);
-}
-
 }  // namespace slipfit::pipeline::tiling

@@ -59,6 +59,5 @@ TileSamples readTileSamples(const std::string& run_dir);
 /// `done` records them). False with \a why empty when there is no `done` (the run did not end),
 /// false with \a why saying which file differs when they do not verify.
 bool tileDone(const std::string& run_dir, std::string& why);
-bool tileDone(const std::string& run_dir);
 
 }  // namespace slipfit::pipeline::tiling
