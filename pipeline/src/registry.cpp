@@ -19,6 +19,7 @@ const std::vector<StageInfo>& stageRegistry() {
       adapters::slippageClassificationInfo(),
       adapters::primitiveFittingInfo(),
       adapters::sceneSamplingInfo(),
+      adapters::scanSamplingInfo(),
       adapters::segmentationInfo(),
   };
   return registry;

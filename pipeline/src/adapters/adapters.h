@@ -13,6 +13,7 @@ StageInfo motionSurfaceSamplingInfo();
 StageInfo primitiveFittingInfo();
 StageInfo slippageClassificationInfo();
 StageInfo sceneSamplingInfo();
+StageInfo scanSamplingInfo();
 StageInfo segmentationInfo();
 StageInfo subsampleInfo();
 StageInfo cropInfo();
