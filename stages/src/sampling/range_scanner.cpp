@@ -231,20 +231,28 @@ RangeScan scanScene(const SensorScene& scene, const RangeSensorParameters& param
       scan.labels[cell] = hit;
     }
   }
-  // Primitives with too few returns are not truth.
+  // The truth is what the sensor saw: pieces with too few returns are not truth, and the others
+  // are numbered in the order of the scene.
   std::vector<std::size_t> count(scan.truth.size(), 0);
   for (std::int32_t l : scan.labels)
     if (l >= 0)
       ++count[static_cast<std::size_t>(l)];
+  std::vector<std::int32_t> renumbered(scan.truth.size(), -1);
+  std::vector<Primitive> seen;
+  for (std::size_t k = 0; k < scan.truth.size(); ++k)
+    if (count[k] >= parameters.truth_min_points) {
+      renumbered[k] = static_cast<std::int32_t>(seen.size());
+      seen.push_back(scan.truth[k]);
+    }
+  scan.truth = std::move(seen);
   scan.types.assign(scan.labels.size(), -1);
   for (std::size_t i = 0; i < scan.labels.size(); ++i) {
-    const std::int32_t l = scan.labels[i];
+    std::int32_t& l = scan.labels[i];
     if (l < 0)
       continue;
     ++scan.returns;
-    if (count[static_cast<std::size_t>(l)] < parameters.truth_min_points)
-      scan.labels[i] = -1;
-    else
+    l = renumbered[static_cast<std::size_t>(l)];
+    if (l >= 0)
       scan.types[i] = static_cast<std::int32_t>(scan.truth[static_cast<std::size_t>(l)].index());
   }
   if (camera) {

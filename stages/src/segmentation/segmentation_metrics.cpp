@@ -118,9 +118,16 @@ SegmentationScore scoreSegmentation(const std::vector<std::int32_t>& truth,
       right_types += truth_types[t] == predicted_types[static_cast<std::size_t>(k)] ? 1 : 0;
     }
   }
-  for (double x : s.iou)
-    s.mean_iou += x;
-  s.mean_iou = s.truths ? s.mean_iou / static_cast<double>(s.truths) : 0.0;
+  // A label no point carries is not a true primitive of this cloud (a surface the sensor did not
+  // see): it is neither counted nor scored.
+  std::size_t present = 0;
+  for (std::size_t t = 0; t < s.truths; ++t)
+    if (tsize[t] > 0) {
+      s.mean_iou += s.iou[t];
+      ++present;
+    }
+  s.truths = present;
+  s.mean_iou = present ? s.mean_iou / static_cast<double>(present) : 0.0;
   s.point_accuracy = surface ? right_points / static_cast<double>(surface) : 0.0;
   s.type_accuracy = typed ? static_cast<double>(right_types) / static_cast<double>(typed) : 0.0;
   return s;

@@ -69,6 +69,15 @@ TEST(SegmentationMetrics, ScoresAKnownLabelling) {
   EXPECT_DOUBLE_EQ(s.type_accuracy, 1.0);
 }
 
+TEST(SegmentationMetrics, ALabelWithoutPointsIsNotATruePrimitive) {
+  // Truth labels 0 and 2 (a sensor did not see primitive 1): two true primitives, both found.
+  const std::vector<std::int32_t> truth{0, 0, 2, 2};
+  const std::vector<std::int32_t> pred{0, 0, 1, 1};
+  const SegmentationScore s = scoreSegmentation(truth, pred);
+  EXPECT_EQ(s.truths, 2u);
+  EXPECT_DOUBLE_EQ(s.mean_iou, 1.0);
+}
+
 struct SceneRun {
   SegmentationResult result;
   SegmentationScore score;

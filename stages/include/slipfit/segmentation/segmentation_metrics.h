@@ -9,10 +9,12 @@
 namespace slipfit {
 
 struct SegmentationScore {
-  double mean_iou = 0.0;        ///< over the true primitives (unmatched ones count 0)
+  /// Over the true primitives that have points (unmatched ones count 0; a label without points
+  /// is not counted).
+  double mean_iou = 0.0;
   double point_accuracy = 0.0;  ///< surface points in the segment matched to their primitive
   double type_accuracy = 0.0;   ///< matched segments whose type is the true primitive's
-  std::size_t truths = 0;       ///< true primitives (labels >= 0)
+  std::size_t truths = 0;       ///< true primitives with points (labels >= 0)
   std::size_t segments = 0;     ///< predicted segments (labels >= 0)
   /// match[t] = the predicted label matched to true label t, or −1.
   std::vector<int> match;
