@@ -68,6 +68,8 @@ const std::map<std::string, Settings> kCompanions = {
     {"outlier_removal.radius", {{"method", "radius"}}},
     {"neighborhood_selection.k_min", {{"k_max", "10000"}}},
     {"neighborhood_selection.k_max", {{"k_min", "3"}}},
+    {"scan_sampling.distance_min", {{"distance_max", "1e300"}}},
+    {"scan_sampling.distance_max", {{"distance_min", "1e-300"}}},
 };
 
 TEST(OptionRanges, EveryValueAStageDeclaresPassesItsLibrarysValidation) {

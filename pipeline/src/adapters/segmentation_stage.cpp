@@ -134,6 +134,11 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
                    << data.size() << " points assigned (distance " << result.distance << ", "
                    << result.merges << " merges, " << result.absorbed << " fragments absorbed, "
                    << result.fillets << " fillets)\n";
+    if (result.noise_range.second > result.noise_range.first)
+      context.report << "  noise: σ " << result.noise_range.first << " to "
+                     << result.noise_range.second
+                     << " (5th to 95th percentile over the points; each point's tolerance is 3 "
+                        "of its own σ)\n";
     context.report << "  phases:" << std::fixed << std::setprecision(2);
     for (const PhaseTiming& t : result.timings)
       context.report << " " << t.phase << " " << t.seconds << " s"

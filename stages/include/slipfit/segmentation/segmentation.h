@@ -120,6 +120,9 @@ struct SegmentationResult {
     return slipfit::distance(p, segment.fit.refined) <= tolerance(p);
   }
   double noise = 0.0;  ///< the noise estimate σ̂ (units)
+  /// The 5th and 95th percentiles of the points' own σ (each point's tolerance follows it when
+  /// the distance is automatic); both `noise` when the distance was given.
+  std::pair<double, double> noise_range{0.0, 0.0};
   /// distance = noise_factor · noise + a floor from the spacing; 0 when the distance was given.
   double noise_factor = 0.0;
   double max_angle = 0.0;         ///< the angle tolerance used, radians

@@ -30,6 +30,11 @@ double chiSquareQuantileOverDof(double nu, double z) {
 struct DataScale {
   double noise = 0.0;    ///< σ̂, from the lower quartile of the neighborhoods' plane residuals
   double spacing = 0.0;  ///< median nearest-neighbor distance
+  /// The sampled neighborhoods that span a surface (not drawn out along a line): their centre
+  /// points and variance estimates (each scaled so that their T::local_noise_quantile estimates
+  /// σ²).
+  std::vector<pcl::index_t> sampled;
+  std::vector<double> variance;
 };
 
 /// Residual sum of squares of the height field h = a u² + b uv + c v² + d u + e v + f fitted
@@ -77,11 +82,33 @@ std::pair<Eigen::Vector3d, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>> princ
   return {mean, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov)};
 }
 
+/// The median absolute deviation of \a values from their median.
+double medianDeviation(std::vector<double> values) {
+  const double centre = quantile(values, 0.5);
+  for (double& v : values)
+    v = std::abs(v - centre);
+  return quantile(std::move(values), 0.5);
+}
+
+/// Whether the points \a idx spread across their line: the median absolute deviation of their
+/// coordinates along the second principal axis is at least T::least_aspect times that along the
+/// first (deviations from the median, not the mean: a few points of the next row pull the mean).
+bool spansASurface(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                   const std::vector<pcl::index_t>& idx, const Eigen::Matrix3d& axes) {
+  std::vector<double> along, across;
+  for (pcl::index_t j : idx) {
+    along.push_back(points.col(j).dot(axes.col(2)));
+    across.push_back(points.col(j).dot(axes.col(1)));
+  }
+  return medianDeviation(std::move(across)) >= T::least_aspect * medianDeviation(std::move(along));
+}
+
 /// \a layered: the cloud's depth is recorded on levels (detectQuantizedAxis), whose layers in a
 /// neighborhood are part of its spread, not sheets of a thin wall.
 DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neighborhoods& hoods,
                     bool layered) {
-  std::vector<double> variance, spacing;
+  std::vector<double> variance, spacing, sample_variance;
+  std::vector<pcl::index_t> sampled;
   const std::size_t n = hoods.size();
   const std::size_t stride = std::max<std::size_t>(1, n / T::noise_sample);
   for (std::size_t i = 0; i < n; i += stride) {
@@ -120,9 +147,127 @@ DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neig
       nu = k - 3.0;
     }
     variance.push_back(rss / nu / chiSquareQuantileOverDof(nu, T::noise_quantile_z));
+    // A neighborhood drawn out along a line (a LiDAR's scan line on far ground, one row of a
+    // grid, perhaps with a few points of the next row) says nothing of the noise: a sensor's
+    // noise lies along its rays, and the points of one row displaced along their rays lie on one
+    // plane (the row's cone of rays), which the height field fits. The local noise (localNoise)
+    // does not use it. Medians, not the spread: two points of the next row must not pass for a
+    // surface.
+    if (spansASurface(points, idx, eigen.eigenvectors())) {
+      sampled.push_back(static_cast<pcl::index_t>(i));
+      sample_variance.push_back(rss / nu / chiSquareQuantileOverDof(nu, T::local_noise_quantile_z));
+    }
   }
-  return {std::sqrt(quantile(std::move(variance), T::noise_quantile)),
-          quantile(std::move(spacing), 0.5)};
+  DataScale out;
+  out.noise = std::sqrt(quantile(variance, T::noise_quantile));
+  out.spacing = quantile(std::move(spacing), 0.5);
+  out.sampled = std::move(sampled);
+  out.variance = std::move(sample_variance);
+  return out;
+}
+
+/// Each point's σ: the noise of a sensor grows with range and lies along the ray, so that one
+/// surface seen face-on carries several times the noise across it of another seen at a grazing
+/// angle. The estimator of dataScale — a low quantile of the neighborhoods' variance estimates —
+/// is taken locally, over the sampled neighborhoods nearest (in the neighbor graph) to each
+/// sampled one, then opened (erosion and dilation over the same), and each point takes the σ of
+/// the sampled point its neighbor graph reaches first. Points no sample reaches keep the global σ̂.
+std::vector<double> localNoise(const Neighborhoods& hoods, const DataScale& scale, std::size_t n) {
+  // Graph distance to the samples: a breadth-first search from all of them at once; `owner` is
+  // the sample that reaches a point first (ties to the earlier sample: deterministic).
+  constexpr std::int32_t kNone = -1;
+  std::vector<std::int32_t> owner(n, kNone);
+  std::vector<pcl::index_t> queue;
+  queue.reserve(n);
+  for (std::size_t j = 0; j < scale.sampled.size(); ++j) {
+    owner[static_cast<std::size_t>(scale.sampled[j])] = static_cast<std::int32_t>(j);
+    queue.push_back(scale.sampled[j]);
+  }
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const pcl::index_t i = queue[head];
+    for (pcl::index_t k : hoods[static_cast<std::size_t>(i)])
+      if (owner[static_cast<std::size_t>(k)] == kNone) {
+        owner[static_cast<std::size_t>(k)] = owner[static_cast<std::size_t>(i)];
+        queue.push_back(k);
+      }
+  }
+  // The samples adjacent to each sample (their owned points touch): the sample graph; each
+  // sample's local estimate pools the estimates of the samples nearest to it in that graph.
+  const std::size_t m = scale.sampled.size();
+  std::vector<std::vector<std::int32_t>> adjacent(m);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int32_t a = owner[i];
+    if (a == kNone)
+      continue;
+    for (pcl::index_t k : hoods[i]) {
+      const std::int32_t b = owner[static_cast<std::size_t>(k)];
+      if (b != kNone && b != a)
+        adjacent[static_cast<std::size_t>(a)].push_back(b);
+    }
+  }
+  for (auto& list : adjacent) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  std::vector<double> sample_sigma(m, scale.noise);
+  std::vector<std::int32_t> seen(m, -1), ring;
+  // At least T::local_noise_samples samples and T::local_noise_points points: a small cloud,
+  // sampled at every point, pools a patch of the same size as a large one.
+  const std::size_t stride = std::max<std::size_t>(1, n / std::max<std::size_t>(1, m));
+  const std::size_t pool_size =
+      std::max(T::local_noise_samples, (T::local_noise_points + stride - 1) / stride);
+  std::vector<double> pool;
+  std::vector<std::int32_t> rings;  // each sample's ring, one after another
+  std::vector<std::size_t> ring_end(m, 0);
+  for (std::size_t j = 0; j < m; ++j) {
+    ring.assign(1, static_cast<std::int32_t>(j));
+    seen[j] = static_cast<std::int32_t>(j);
+    for (std::size_t head = 0; head < ring.size() && ring.size() < pool_size; ++head)
+      for (std::int32_t b : adjacent[static_cast<std::size_t>(ring[head])])
+        if (seen[static_cast<std::size_t>(b)] != static_cast<std::int32_t>(j) &&
+            ring.size() < pool_size) {
+          seen[static_cast<std::size_t>(b)] = static_cast<std::int32_t>(j);
+          ring.push_back(b);
+        }
+    pool.clear();
+    for (std::int32_t b : ring)
+      pool.push_back(scale.variance[static_cast<std::size_t>(b)]);
+    sample_sigma[j] = std::sqrt(quantile(pool, T::local_noise_quantile));
+    rings.insert(rings.end(), ring.begin(), ring.end());
+    ring_end[j] = rings.size();
+  }
+  // An opening: the least σ around each sample (erosion), then the largest of those around it
+  // (dilation). Noise is a property of a wide surface seen from one range; the residual of a model
+  // that does not fit (a crease, a fillet too small for its neighborhoods) is a narrow band along
+  // a feature, which the erosion removes and the dilation does not bring back, while a wide
+  // region gets its whole extent back: a CAD part's tolerance stays the cloud's.
+  auto aroundEach = [&](const std::vector<double>& in, bool least) {
+    std::vector<double> out(m);
+    for (std::size_t j = 0; j < m; ++j) {
+      out[j] = in[j];
+      for (std::size_t r = j ? ring_end[j - 1] : 0; r < ring_end[j]; ++r) {
+        const double v = in[static_cast<std::size_t>(rings[r])];
+        out[j] = least ? std::min(out[j], v) : std::max(out[j], v);
+      }
+    }
+    return out;
+  };
+  std::vector<double> opened = aroundEach(aroundEach(sample_sigma, true), false);
+  sample_sigma = std::move(opened);
+  // The simpler model unless the data demand the other: one σ for the cloud, raised where a
+  // point's own is more than T::local_noise_ratio times larger, and by more than the tolerance's
+  // floor (noise-free data: σ̂ ≈ 0, and any residual of a model that does not fit is a large
+  // ratio). Never lowered: where the noise is below σ̂ (a surface seen at a grazing angle) the
+  // tolerance keeps the cloud's, as before.
+  std::vector<double> sigma(n, scale.noise);
+  for (std::size_t i = 0; i < n; ++i)
+    if (owner[i] != kNone) {
+      const double local = sample_sigma[static_cast<std::size_t>(owner[i])];
+      if (local > T::local_noise_ratio * scale.noise &&
+          T::noise_factor * (local - scale.noise) > T::spacing_factor * scale.spacing)
+        sigma[i] = local;
+    }
+  return sigma;
 }
 
 }  // namespace
@@ -150,6 +295,17 @@ void estimateScale(SegmentationState& s) {
   std::vector<double> tolerance(s.n);
   for (std::size_t i = 0; i < s.n; ++i)
     tolerance[i] = s.result.tolerance(s.points.col(static_cast<Eigen::Index>(i)));
+  // Each point's own noise in place of the cloud's (localNoise), on a noisy cloud: where σ̂ is
+  // below a twentieth of the spacing (CAD parts, meshes, noise-free samples) the residuals that
+  // vary over the cloud are model error — a thin wall's two sheets, a crease — not a sensor's
+  // noise. Depth on levels has its own per-point model (the local step).
+  if (!s.parameters.distance && !s.result.lattice.detected() &&
+      scale.noise >= T::spacing_factor * scale.spacing) {
+    const std::vector<double> sigma = localNoise(s.hoods, scale, s.n);
+    for (std::size_t i = 0; i < s.n; ++i)
+      tolerance[i] += T::noise_factor * (sigma[i] - scale.noise);
+    s.result.noise_range = {quantile(sigma, 0.05), quantile(sigma, 0.95)};
+  }
   s.result.min_points = s.parameters.min_points.value_or(T::default_min_points);
   s.result.labels.assign(s.n, -1);
   s.grower.emplace(s.points, s.normals, s.hoods, std::move(tolerance), s.result.max_angle);
