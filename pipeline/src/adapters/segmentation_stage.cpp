@@ -133,7 +133,8 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
     context.report << "segmentation: " << result.segments.size() << " segments, " << assigned << "/"
                    << data.size() << " points assigned (distance " << result.distance << ", "
                    << result.merges << " merges, " << result.absorbed << " fragments absorbed, "
-                   << result.fillets << " fillets)\n";
+                   << result.fillets << " fillets, " << result.volumes
+                   << " regions dropped as volumes or depth slices)\n";
     if (result.noise_range.second > result.noise_range.first)
       context.report << "  noise: σ " << result.noise_range.first << " to "
                      << result.noise_range.second
