@@ -116,6 +116,14 @@ struct SegmentationTuning {
   /// Between a surface's RMS distance (≈ 0.33 ε with Gaussian noise, ε = 3σ) and that of a slab
   /// filled at random (ε/√3 ≈ 0.58 ε).
   static constexpr double volume_ratio = 0.45;
+  /// ... unless the points' own neighborhoods are thin: a surface whose deviations exceed its
+  /// tolerance (noise correlated over more than a neighborhood — a stereo camera's, a bumpy
+  /// floor) fills its slab too, but each point's neighborhood lies in a sheet, while points
+  /// scattered through a volume have neighborhoods as deep as they are wide. Thin: the median over
+  /// the region of √(λ₀/λ₁) of the neighborhoods below this (noise σ across a neighborhood of
+  /// radius about 2 spacings reads σ/s at most; a uniform ball reads 1).
+  static constexpr double volume_thinness = 0.5;
+  static constexpr std::size_t volume_thinness_sample = 64;  ///< members looked at, evenly spaced
 };
 
 }  // namespace slipfit

@@ -5,6 +5,8 @@
 #include "slipfit/segmentation/segmentation_tuning.h"
 #include "slipfit/slippage/slippage.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 
@@ -37,6 +39,36 @@ void refineFromSlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
   }
 }
 
+/// The median over up to T::volume_thinness_sample of \a members (evenly spaced) of √(λ₀/λ₁),
+/// the least two principal spreads of each one's neighborhood: small for points on a sheet.
+double medianThinness(const SegmentationState& s, const std::vector<int>& members) {
+  const std::size_t step = std::max<std::size_t>(1, members.size() / T::volume_thinness_sample);
+  std::vector<double> thinness;
+  for (std::size_t j = 0; j < members.size(); j += step) {
+    const NeighborView hood = s.hood(members[j]);
+    if (hood.size() < 4)
+      continue;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (pcl::index_t k : hood)
+      mean += s.points.col(k);
+    mean /= static_cast<double>(hood.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (pcl::index_t k : hood) {
+      const Eigen::Vector3d d = s.points.col(k) - mean;
+      cov += d * d.transpose();
+    }
+    const Eigen::Vector3d lambda =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvalues();
+    thinness.push_back(lambda(1) > 0.0 ? std::sqrt(std::max(0.0, lambda(0)) / lambda(1)) : 1.0);
+  }
+  if (thinness.empty())
+    return 1.0;
+  std::nth_element(thinness.begin(),
+                   thinness.begin() + static_cast<std::ptrdiff_t>(thinness.size() / 2),
+                   thinness.end());
+  return thinness[thinness.size() / 2];
+}
+
 }  // namespace
 
 void dropNonSurfaces(SegmentationState& s) {
@@ -47,6 +79,7 @@ void dropNonSurfaces(SegmentationState& s) {
   // random points that happen to lie within ε of some primitive (a cloud of noise): dropped.
   const RegionGrower& grower = *s.grower;
   const QuantizedAxis& lattice = s.result.lattice;
+  const bool noisy = s.result.noise >= T::spacing_factor * s.spacing;
   for (std::size_t r = 0; r < s.regions.size(); ++r) {
     if (!s.alive[r])
       continue;
@@ -61,7 +94,13 @@ void dropNonSurfaces(SegmentationState& s) {
     bool one_level = lattice.detected();
     for (std::size_t j = 1; one_level && j < members.size(); ++j)
       one_level = s.points(lattice.axis, members[j]) == s.points(lattice.axis, members[0]);
-    if (one_level || std::sqrt(sum / static_cast<double>(members.size())) > T::volume_ratio) {
+    // On noise-free data (σ̂ below a twentieth of the spacing: CAD parts) a region that fills
+    // its slab is a primitive fitted across what it does not explain, whatever its points'
+    // neighborhoods: dropped as before.
+    const bool fills_slab =
+        std::sqrt(sum / static_cast<double>(members.size())) > T::volume_ratio &&
+        (!noisy || medianThinness(s, members) >= T::volume_thinness);
+    if (one_level || fills_slab) {
       s.drop(r);
       ++s.result.volumes;
     }
