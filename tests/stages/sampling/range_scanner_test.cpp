@@ -107,6 +107,21 @@ TEST(RangeScanner, NothingIsSeenThroughAnObject) {
   EXPECT_GT(on_ball, 1000u);
 }
 
+/// The sample \a e is standard normal: its mean within 5 standard errors (1/√N) of 0 and its
+/// variance within 5 standard errors (√(2/N)) of 1.
+void expectStandardNormal(const std::vector<double>& e) {
+  double mean = 0.0, var = 0.0;
+  for (double x : e)
+    mean += x;
+  mean /= static_cast<double>(e.size());
+  for (double x : e)
+    var += (x - mean) * (x - mean);
+  var /= static_cast<double>(e.size() - 1);
+  const double n = static_cast<double>(e.size());
+  EXPECT_NEAR(mean, 0.0, 5.0 / std::sqrt(n));
+  EXPECT_NEAR(var, 1.0, 5.0 * std::sqrt(2.0 / n));
+}
+
 /// The depth error of each camera return over the σ(z) of the model, against the depth of its
 /// ray's exact intersection with its true plane; only planes are used (their intersection is
 /// closed-form here, independently of the scanner).
@@ -138,16 +153,7 @@ TEST(RangeScanner, DepthNoiseIsTheKinectModelAlongTheRay) {
     e.insert(e.end(), part.begin(), part.end());
   }
   ASSERT_GT(e.size(), 100000u);
-  double mean = 0.0, var = 0.0;
-  for (double x : e)
-    mean += x;
-  mean /= static_cast<double>(e.size());
-  for (double x : e)
-    var += (x - mean) * (x - mean);
-  var /= static_cast<double>(e.size() - 1);
-  const double n = static_cast<double>(e.size());
-  EXPECT_NEAR(mean, 0.0, 5.0 / std::sqrt(n));
-  EXPECT_NEAR(var, 1.0, 5.0 * std::sqrt(2.0 / n));
+  expectStandardNormal(e);
 }
 
 // With the levels on, every depth is f B / (k · step) for an integer k (relative 1e-9), and
@@ -186,16 +192,7 @@ TEST(RangeScanner, LidarRangeNoiseIsGaussianAlongTheRay) {
     e.push_back(((scan.points.col(i) - scan.origin).norm() - t_true) / *p.range_noise);
   }
   ASSERT_GT(e.size(), 50000u);
-  double mean = 0.0, var = 0.0;
-  for (double x : e)
-    mean += x;
-  mean /= static_cast<double>(e.size());
-  for (double x : e)
-    var += (x - mean) * (x - mean);
-  var /= static_cast<double>(e.size() - 1);
-  const double n = static_cast<double>(e.size());
-  EXPECT_NEAR(mean, 0.0, 5.0 / std::sqrt(n));
-  EXPECT_NEAR(var, 1.0, 5.0 * std::sqrt(2.0 / n));
+  expectStandardNormal(e);
 }
 
 // The same scan for 1 and 2 threads (each cell has its own random stream); another seed gives
