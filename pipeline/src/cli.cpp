@@ -145,7 +145,8 @@ int dispatch(const std::vector<std::string>& args, std::ostream& out) {
     checkConfigFiles(config);
     if (config.tiling.enabled())
       checkTiledRun(config);
-    out << parsed.config << ": valid, " << config.stages.size() << " stages\n";
+    out << parsed.config << ": valid, " << config.stages.size()
+        << (config.stages.size() == 1 ? " stage\n" : " stages\n");
     return kSuccess;
   }
   if (command == "run") {

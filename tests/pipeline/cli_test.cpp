@@ -126,6 +126,8 @@ TEST(Cli, StagesDescribeValidate) {
   r = runSlipfit("validate configs/normals_demo.yaml");
   EXPECT_EQ(r.code, 0);
   EXPECT_EQ(r.out, "configs/normals_demo.yaml: valid, 3 stages\n");
+  r = runSlipfit("validate configs/sample_scan.yaml");
+  EXPECT_EQ(r.out, "configs/sample_scan.yaml: valid, 1 stage\n");
 }
 
 struct ErrorCase {
