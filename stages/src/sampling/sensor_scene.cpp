@@ -120,11 +120,10 @@ void addTabletop(SensorScene& scene, Draw& draw) {
   const int n_table = draw.count(3, 7);
   for (int i = 0; i < n_table; ++i) {
     const int kind = draw.count(0, 4);
-    const double size = kind == 0   ? draw(0.06, 0.25)
-                        : kind == 1 ? draw(0.03, 0.05)
-                        : kind == 2 ? draw(0.03, 0.1)
-                        : kind == 3 ? draw(0.05, 0.12)
-                                    : draw(0.04, 0.09);
+    // carton side, cup radius, ball radius, cone base radius, ring major radius
+    constexpr double kTableSizes[5][2] = {
+        {0.06, 0.25}, {0.03, 0.05}, {0.03, 0.1}, {0.05, 0.12}, {0.04, 0.09}};
+    const double size = draw(kTableSizes[kind][0], kTableSizes[kind][1]);
     const double footprint = kind == 0 ? 0.71 * size : size;
     const auto c = on_table.place(draw, -0.5 * w + 0.02, 0.5 * w - 0.02, -0.5 * d + 0.02,
                                   0.5 * d - 0.02, footprint, 0.03);
@@ -156,11 +155,10 @@ void addTabletop(SensorScene& scene, Draw& draw) {
   const int n_floor = draw.count(2, 4);
   for (int i = 0; i < n_floor; ++i) {
     const int kind = draw.count(0, 4);
-    const double size = kind == 0   ? draw(0.3, 0.6)
-                        : kind == 1 ? draw(0.12, 0.25)
-                        : kind == 2 ? draw(0.1, 0.25)
-                        : kind == 3 ? draw(0.12, 0.18)
-                                    : draw(0.2, 0.3);
+    // box side, bin radius, ball radius, traffic cone base radius, tyre major radius
+    constexpr double kFloorSizes[5][2] = {
+        {0.3, 0.6}, {0.12, 0.25}, {0.1, 0.25}, {0.12, 0.18}, {0.2, 0.3}};
+    const double size = draw(kFloorSizes[kind][0], kFloorSizes[kind][1]);
     const double footprint = kind == 0 ? 0.71 * size : size + 0.1 * (kind == 4);
     const auto c = on_floor.place(draw, -2.5, wx - 0.05, centre.y(), wy - 0.05, footprint, 0.1);
     if (!c)

@@ -122,21 +122,27 @@ void expectStandardNormal(const std::vector<double>& e) {
   EXPECT_NEAR(var, 1.0, 5.0 * std::sqrt(2.0 / n));
 }
 
+/// Calls \a f(cell, plane, ray) for every return on a true plane.
+template <typename F>
+void forEachPlaneReturn(const RangeScan& scan, F&& f) {
+  for (Eigen::Index i = 0; i < scan.points.cols(); ++i) {
+    const std::int32_t label = scan.labels[static_cast<std::size_t>(i)];
+    if (label >= 0)
+      if (const auto* plane = std::get_if<Plane>(&scan.truth[static_cast<std::size_t>(label)]))
+        f(i, *plane, rayOf(scan, i));
+  }
+}
+
 /// The depth error of each camera return over the σ(z) of the model, against the depth of its
 /// ray's exact intersection with its true plane; only planes are used (their intersection is
 /// closed-form here, independently of the scanner).
 std::vector<double> normalisedDepthErrors(const RangeScan& scan, const RangeSensorParameters& p) {
   std::vector<double> e;
-  for (Eigen::Index i = 0; i < scan.points.cols(); ++i) {
-    const std::int32_t label = scan.labels[static_cast<std::size_t>(i)];
-    if (label < 0 || !std::holds_alternative<Plane>(scan.truth[static_cast<std::size_t>(label)]))
-      continue;
-    const auto& plane = std::get<Plane>(scan.truth[static_cast<std::size_t>(label)]);
-    const Eigen::Vector3d ray = rayOf(scan, i);
+  forEachPlaneReturn(scan, [&](Eigen::Index i, const Plane& plane, const Eigen::Vector3d& ray) {
     const double z_true = plane.d / plane.normal.dot(ray) * ray.z();
     const double sigma = p.noise_a + p.noise_b * std::pow(z_true - p.noise_z0, 2);
     e.push_back((scan.points(2, i) - z_true) / sigma);
-  }
+  });
   return e;
 }
 
@@ -182,15 +188,10 @@ TEST(RangeScanner, LidarRangeNoiseIsGaussianAlongTheRay) {
   p.range_noise = 0.004;
   const RangeScan scan = scanScene(sensorScene(SensorSetting::yard, 8), p, 8);
   std::vector<double> e;
-  for (Eigen::Index i = 0; i < scan.points.cols(); ++i) {
-    const std::int32_t label = scan.labels[static_cast<std::size_t>(i)];
-    if (label < 0 || !std::holds_alternative<Plane>(scan.truth[static_cast<std::size_t>(label)]))
-      continue;
-    const auto& plane = std::get<Plane>(scan.truth[static_cast<std::size_t>(label)]);
-    const Eigen::Vector3d ray = rayOf(scan, i);
+  forEachPlaneReturn(scan, [&](Eigen::Index i, const Plane& plane, const Eigen::Vector3d& ray) {
     const double t_true = (plane.d - plane.normal.dot(scan.origin)) / plane.normal.dot(ray);
     e.push_back(((scan.points.col(i) - scan.origin).norm() - t_true) / *p.range_noise);
-  }
+  });
   ASSERT_GT(e.size(), 50000u);
   expectStandardNormal(e);
 }
