@@ -2,12 +2,13 @@
 // Hungarian-matched mean IoU, point accuracy, type accuracy, and the parameter errors of matched
 // segments of the right type (read from the tool's primitives.yaml, matched by label).
 //
-//   score_segmentation TRUTH.ply RESULT_DIR
+//   score_segmentation TRUTH.ply RESULT_DIR [--per-truth]
 //
 // TRUTH.ply carries the field truth_label (and truth_type); RESULT_DIR holds segments.ply (fields
 // label and primitive, and the truth's fields when the tool carried them through: then those are
 // used, in the result's point order) and primitives.yaml — slipfit's segmentation stage and
-// bench/cgal_ransac both write them. Prints one line of key=value pairs.
+// bench/cgal_ransac both write them. Prints one line of key=value pairs; --per-truth first prints
+// one line per true primitive (its points and type, the matched segment, its type, the IoU).
 #include "slipfit/core/angle_units.h"
 #include "slipfit/sampling/scene_sampler.h"
 #include "slipfit/segmentation/segmentation_metrics.h"
@@ -85,8 +86,9 @@ bool isFixedScene(const std::string& file, const std::vector<std::int32_t>& trut
 }  // namespace
 
 int main(int argc, char** argv) try {
-  if (argc != 3) {
-    std::cerr << "usage: score_segmentation TRUTH.ply RESULT_DIR\n";
+  const bool detail = argc == 4 && std::string(argv[3]) == "--per-truth";
+  if (argc != 3 && !detail) {
+    std::cerr << "usage: score_segmentation TRUTH.ply RESULT_DIR [--per-truth]\n";
     return 2;
   }
   const std::string dir = argv[2];
@@ -136,6 +138,23 @@ int main(int argc, char** argv) try {
       predicted_types[static_cast<std::size_t>(label[i])] = type[i];
   const slipfit::SegmentationScore score =
       slipfit::scoreSegmentation(truth, label, truth_types, predicted_types);
+  if (detail) {
+    // Per true primitive: its points, type, the matched segment, its type and the IoU.
+    std::vector<std::size_t> points(score.iou.size(), 0);
+    for (std::int32_t t : truth)
+      if (t >= 0)
+        ++points[static_cast<std::size_t>(t)];
+    for (std::size_t t = 0; t < score.iou.size(); ++t) {
+      if (points[t] == 0)
+        continue;
+      const int k = score.match[t];
+      const int true_type = t < truth_types.size() ? truth_types[t] : -1;
+      const int found_type = k >= 0 ? predicted_types[static_cast<std::size_t>(k)] : -1;
+      std::cout << "truth " << t << " points=" << points[t] << " type=" << true_type
+                << " segment=" << k << " segment_type=" << found_type << " iou=" << std::fixed
+                << std::setprecision(3) << score.iou[t] << std::defaultfloat << "\n";
+    }
+  }
 
   // Parameters of the matched segments of the right type.
   std::map<int, YAML::Node> records;
