@@ -228,7 +228,8 @@ RangeScan scanScene(const SensorScene& scene, const RangeSensorParameters& param
       }
       scan.points.col(static_cast<Eigen::Index>(cell)) = o + t * d;
       scan.normals.col(static_cast<Eigen::Index>(cell)) = normal;
-      scan.labels[cell] = hit;
+      const int continued = scene.pieces[static_cast<std::size_t>(hit)].continues;
+      scan.labels[cell] = continued >= 0 ? continued : hit;
     }
   }
   // The truth is what the sensor saw: pieces with too few returns are not truth, and the others

@@ -191,13 +191,16 @@ void addTabletop(SensorScene& scene, Draw& draw) {
 /// A house of w × d with walls of \a eave and a gable roof rising \a rise along its length.
 void addHouse(std::vector<SurfacePiece>& out, const Vector3d& base, double yaw, double w, double d,
               double eave, double rise) {
+  const int walls = static_cast<int>(out.size());  // addBox's sides: −y, +y, −x, +x
   addBox(out, base, yaw, w, d, eave, false, false);
   const Vector3d ex(std::cos(yaw), std::sin(yaw), 0.0), ey(-std::sin(yaw), std::cos(yaw), 0.0),
       ez = Vector3d::UnitZ();
   const Vector3d a = base - 0.5 * w * ex - 0.5 * d * ey + eave * ez;
   const Vector3d up_y = 0.5 * d * ey + rise * ez;
-  out.push_back(triangle(a, up_y, d * ey));                                     // gable at −x
-  out.push_back(triangle(a + w * ex, d * ey, up_y));                            // gable at +x
+  out.push_back(triangle(a, up_y, d * ey));  // gable at −x, on the −x wall's plane
+  out.back().continues = walls + 2;
+  out.push_back(triangle(a + w * ex, d * ey, up_y));  // gable at +x
+  out.back().continues = walls + 3;
   out.push_back(parallelogram(a, w * ex, up_y));                                // roof, −y side
   out.push_back(parallelogram(a + d * ey, -0.5 * d * ey + rise * ez, w * ex));  // roof, +y side
 }

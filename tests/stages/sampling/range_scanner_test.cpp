@@ -6,8 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <variant>
+#include <vector>
 
 namespace slipfit {
 namespace {
@@ -80,6 +83,77 @@ INSTANTIATE_TEST_SUITE_P(
 
 // A ball in front of a wall: no wall return is seen through the ball (its ray passes the ball's
 // centre closer than the radius), and every ball return is on the half facing the camera.
+/// The corners of a polygonal piece (parallelogram, triangle); none for the others.
+std::vector<Eigen::Vector3d> cornersOf(const SurfacePiece& piece) {
+  const Eigen::Vector3d& c = piece.corner;
+  if (piece.bounds == PieceBounds::parallelogram)
+    return {c, c + piece.edge_u, c + piece.edge_u + piece.edge_v, c + piece.edge_v};
+  if (piece.bounds == PieceBounds::triangle)
+    return {c, c + piece.edge_u, c + piece.edge_v};
+  return {};
+}
+
+/// Whether a corner of one polygon lies on an edge of the other (within 1e-9).
+bool shareAnEdgePoint(const std::vector<Eigen::Vector3d>& a,
+                      const std::vector<Eigen::Vector3d>& b) {
+  for (int pass = 0; pass < 2; ++pass) {
+    const auto& corners = pass == 0 ? a : b;
+    const auto& polygon = pass == 0 ? b : a;
+    for (const auto& p : corners)
+      for (std::size_t e = 0; e < polygon.size(); ++e) {
+        const Eigen::Vector3d& s = polygon[e];
+        const Eigen::Vector3d edge = polygon[(e + 1) % polygon.size()] - s;
+        const double t = std::clamp((p - s).dot(edge) / edge.squaredNorm(), 0.0, 1.0);
+        if ((s + t * edge - p).norm() < 1e-9)
+          return true;
+      }
+  }
+  return false;
+}
+
+// One surface is one true segment: where a scene builds a plane from two touching pieces (a
+// house's gable over its end wall), the second continues the first, and no two true planes
+// coincide where they touch — a segmentation that joins them is right, and the score must say so.
+// (Coplanar pieces apart, as the faces of two table legs in a row, are two segments.)
+TEST(SensorScene, TouchingPiecesOfOnePlaneAreOneTrueSurface) {
+  std::size_t joined = 0;
+  for (SensorSetting setting : {SensorSetting::tabletop, SensorSetting::yard})
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+      const SensorScene scene = sensorScene(setting, seed);
+      std::vector<std::size_t> planes;
+      for (std::size_t k = 0; k < scene.pieces.size(); ++k) {
+        const SurfacePiece& piece = scene.pieces[k];
+        if (piece.continues >= 0) {
+          ASSERT_LT(piece.continues, static_cast<int>(k));
+          const auto& base = scene.pieces[static_cast<std::size_t>(piece.continues)];
+          const auto& own = std::get<Plane>(piece.surface);
+          const auto& under = std::get<Plane>(base.surface);
+          const double sign = own.normal.dot(under.normal) > 0 ? 1.0 : -1.0;
+          EXPECT_NEAR(std::abs(own.normal.dot(under.normal)), 1.0, 1e-12);
+          EXPECT_NEAR(own.d, sign * under.d, 1e-9);
+          EXPECT_TRUE(shareAnEdgePoint(cornersOf(piece), cornersOf(base)));
+          ++joined;
+        } else if (std::holds_alternative<Plane>(piece.surface)) {
+          planes.push_back(k);
+        }
+      }
+      for (std::size_t i = 0; i < planes.size(); ++i)
+        for (std::size_t j = i + 1; j < planes.size(); ++j) {
+          const auto& a = scene.pieces[planes[i]];
+          const auto& b = scene.pieces[planes[j]];
+          const auto& pa = std::get<Plane>(a.surface);
+          const auto& pb = std::get<Plane>(b.surface);
+          const double cosine = pa.normal.dot(pb.normal);
+          const double sign = cosine > 0 ? 1.0 : -1.0;
+          const bool coplanar = std::abs(cosine) > 1 - 1e-12 && std::abs(pa.d - sign * pb.d) < 1e-9;
+          EXPECT_FALSE(coplanar && shareAnEdgePoint(cornersOf(a), cornersOf(b)))
+              << "seed " << seed << ": pieces " << planes[i] << " and " << planes[j]
+              << " are one plane and touch";
+        }
+    }
+  EXPECT_GT(joined, 0u);  // the yard's houses have gables
+}
+
 TEST(RangeScanner, NothingIsSeenThroughAnObject) {
   SensorScene scene;
   scene.pieces.push_back(parallelogram(Eigen::Vector3d(-3, 2, -1), Eigen::Vector3d(6, 0, 0),

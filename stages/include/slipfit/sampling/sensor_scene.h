@@ -31,7 +31,7 @@ constexpr std::array<std::pair<SensorSetting, std::string_view>, 2> kSensorSetti
 }};
 
 struct SensorScene {
-  std::vector<SurfacePiece> pieces;  ///< piece i is true primitive i
+  std::vector<SurfacePiece> pieces;  ///< piece i is true primitive i (or that of its `continues`)
   Eigen::Vector3d focus;             ///< where a sensor looks: the table's top, the yard's centre
   double support_height = 0.0;       ///< the table top's height (tabletop), 0 (yard)
   double extent = 0.0;               ///< half the side of the ground square

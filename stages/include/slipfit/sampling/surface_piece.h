@@ -27,6 +27,9 @@ struct SurfacePiece {
   Eigen::Vector3d corner = Eigen::Vector3d::Zero();  ///< parallelogram, triangle; disk: centre
   Eigen::Vector3d edge_u = Eigen::Vector3d::UnitX(), edge_v = Eigen::Vector3d::UnitY();
   double lo = 0.0, hi = 0.0;
+  /// The index (in its scene) of an earlier piece of the same surface that this one continues —
+  /// a gable over its end wall — or −1: pieces so joined are one true segment.
+  int continues = -1;
 
   /// The centre and radius of a ball holding the piece (for culling rays).
   std::pair<Eigen::Vector3d, double> boundingBall() const;
