@@ -444,60 +444,129 @@ FitResult estimateCone(const Points& points, const Points& normals, const Weight
   return r;
 }
 
-FitResult estimateTorus(const Points& points, const Points& normals, const Weights& weights,
-                        const FitOptions& options) {
-  Eigen::Index first = -1;
-  FitResult r = checkInput(PrimitiveType::torus, points, &normals, weights, &first);
-  if (!r.ok())
-    return r;
-  // Normalise: centre on the weighted centroid, unit weighted RMS radius.
+namespace {
+
+/// The axis of a surface of revolution from its normal lines, in the frame centred on the weighted
+/// centroid `o` at unit weighted RMS radius `scale`: every normal line of a surface of revolution
+/// meets its axis, and the line (a, m) in Plücker coordinates (direction a, moment m = c × a)
+/// meets the normal line (nᵢ, pᵢ × nᵢ) iff a·(pᵢ × nᵢ) + nᵢ·m = 0, linear in (a, m): the axis is
+/// the eigenvector of the least eigenvalue of Σ wᵢ lᵢlᵢᵀ with lᵢ = (pᵢ × nᵢ, nᵢ)
+/// (sign-insensitive; the motion of least slippage energy, docs/THEORY.md §4).
+struct RevolutionAxis {
+  Eigen::Vector3d o = Eigen::Vector3d::Zero();   ///< the frame's origin (weighted centroid)
+  double scale = 0.0;                            ///< the frame's unit (weighted RMS radius)
+  Eigen::Vector3d a = Eigen::Vector3d::UnitZ();  ///< unit direction
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();   ///< the axis point nearest o, in the frame
+  /// Second least over greatest eigenvalue: small when the axis is not determined (a sphere,
+  /// plane or cylinder).
+  double rcond = 0.0;
+  std::string failed;  ///< why there is no axis (empty on success)
+};
+
+RevolutionAxis revolutionAxis(const Points& points, const Points& normals, const Weights& weights,
+                              Eigen::Index first) {
+  RevolutionAxis axis;
   double wsum = 0.0;
-  Eigen::Vector3d o = Eigen::Vector3d::Zero();
   for (Eigen::Index i = 0; i < points.cols(); ++i)
     if (weights[i] > 0.0) {
       wsum += weights[i];
-      o += weights[i] * (points.col(i) - points.col(first));
+      axis.o += weights[i] * (points.col(i) - points.col(first));
     }
-  o = points.col(first) + o / wsum;
+  axis.o = points.col(first) + axis.o / wsum;
   double s2 = 0.0;
   for (Eigen::Index i = 0; i < points.cols(); ++i)
     if (weights[i] > 0.0)
-      s2 += weights[i] * (points.col(i) - o).squaredNorm();
-  const double scale = std::sqrt(s2 / wsum);
-  if (!(scale > 0.0))
-    return failure(PrimitiveType::torus, FitStatus::degenerate,
-                   "torus fit: every point is at the same place");
-  // Axis: every normal line of a surface of revolution meets its axis. The line (a, m) in Plücker
-  // coordinates (direction a, moment m = c × a) meets the normal line (nᵢ, pᵢ × nᵢ) iff
-  // a·(pᵢ × nᵢ) + nᵢ·m = 0, linear in (a, m): the axis is the eigenvector of the least eigenvalue
-  // of Σ wᵢ lᵢlᵢᵀ with lᵢ = (pᵢ × nᵢ, nᵢ) (sign-insensitive).
+      s2 += weights[i] * (points.col(i) - axis.o).squaredNorm();
+  axis.scale = std::sqrt(s2 / wsum);
+  if (!(axis.scale > 0.0)) {
+    axis.failed = "every point is at the same place";
+    return axis;
+  }
   Eigen::Matrix<double, 6, 6> lines = Eigen::Matrix<double, 6, 6>::Zero();
   for (Eigen::Index i = 0; i < points.cols(); ++i)
     if (weights[i] > 0.0) {
       const Eigen::Vector3d n = normals.col(i).normalized();
-      const Eigen::Vector3d p = (points.col(i) - o) / scale;
+      const Eigen::Vector3d p = (points.col(i) - axis.o) / axis.scale;
       Eigen::Matrix<double, 6, 1> l;
       l << p.cross(n), n;
       lines.noalias() += weights[i] * l * l.transpose();
     }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(lines);
   const auto lambda = eig.eigenvalues();
+  axis.rcond = lambda(5) > 0.0 ? std::max(0.0, lambda(1)) / lambda(5) : 0.0;
+  const Eigen::Matrix<double, 6, 1> line = eig.eigenvectors().col(0);
+  const double an = line.head<3>().norm();
+  if (!(an > 1e-9)) {
+    axis.failed = "the normal lines meet at infinity (parallel normals)";
+    return axis;
+  }
+  axis.a = line.head<3>() / an;
+  axis.c = axis.a.cross(line.tail<3>() / an);
+  return axis;
+}
+
+}  // namespace
+
+FitResult estimateConeAboutAxis(const Points& points, const Points& normals, const Weights& weights,
+                                const FitOptions& options) {
+  Eigen::Index first = -1;
+  FitResult r = checkInput(PrimitiveType::cone, points, &normals, weights, &first);
+  if (!r.ok())
+    return r;
+  const RevolutionAxis axis = revolutionAxis(points, normals, weights, first);
+  if (!axis.failed.empty())
+    return failure(PrimitiveType::cone, FitStatus::degenerate, "cone fit: " + axis.failed);
+  // The generator: distance from the axis ρ = α z + β along the axis height z, by weighted least
+  // squares; the apex is where ρ = 0 and tan θ = |α|.
+  Eigen::Matrix2d ata = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d atb = Eigen::Vector2d::Zero();
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0) {
+      const Eigen::Vector3d v = (points.col(i) - axis.o) / axis.scale - axis.c;
+      const double z = v.dot(axis.a);
+      const Eigen::Vector2d row(z, 1.0);
+      ata.noalias() += weights[i] * row * row.transpose();
+      atb += weights[i] * (v - z * axis.a).norm() * row;
+    }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> leig(ata, Eigen::EigenvaluesOnly);
+  const double line_rcond = leig.eigenvalues()(1) > 0.0
+                                ? std::max(0.0, leig.eigenvalues()(0)) / leig.eigenvalues()(1)
+                                : 0.0;
+  if (!(line_rcond >= options.degenerate_rcond))
+    return failure(PrimitiveType::cone, FitStatus::degenerate,
+                   "cone fit: the points do not spread along the axis");
+  const Eigen::Vector2d ab = ata.ldlt().solve(atb);
+  const double theta = std::atan(std::abs(ab(0)));
+  if (!(theta > 1e-9 && theta < 0.5 * kPi - 1e-9))
+    return failure(PrimitiveType::cone, FitStatus::degenerate,
+                   "cone fit: the half angle " + std::to_string(theta) + " rad is not in (0, π/2)");
+  const Eigen::Vector3d apex = axis.o + axis.scale * (axis.c - ab(1) / ab(0) * axis.a);
+  r.reciprocal_condition = std::min(axis.rcond, line_rcond);
+  r.algebraic = Cone{ab(0) > 0.0 ? axis.a : Eigen::Vector3d(-axis.a), apex, theta};
+  finish(r);
+  return r;
+}
+
+FitResult estimateTorus(const Points& points, const Points& normals, const Weights& weights,
+                        const FitOptions& options) {
+  Eigen::Index first = -1;
+  FitResult r = checkInput(PrimitiveType::torus, points, &normals, weights, &first);
+  if (!r.ok())
+    return r;
+  const RevolutionAxis axis = revolutionAxis(points, normals, weights, first);
+  if (!axis.failed.empty())
+    return failure(PrimitiveType::torus, FitStatus::degenerate, "torus fit: " + axis.failed);
   // A second small eigenvalue means the axis is not determined (a sphere: every line through the
   // centre; a plane or a cylinder: lines at infinity and parallel lines).
-  const double axis_rcond = lambda(5) > 0.0 ? std::max(0.0, lambda(1)) / lambda(5) : 0.0;
+  const double axis_rcond = axis.rcond;
   if (!(axis_rcond >= options.degenerate_rcond))
     return failure(PrimitiveType::torus, FitStatus::degenerate,
                    "torus fit: the normal lines do not meet one axis (a sphere, plane or "
                    "cylinder)");
-  const Eigen::Matrix<double, 6, 1> line = eig.eigenvectors().col(0);
-  Eigen::Vector3d a = line.head<3>();
-  const double an = a.norm();
-  if (!(an > 1e-9))
-    return failure(PrimitiveType::torus, FitStatus::degenerate,
-                   "torus fit: the normal lines meet at infinity (parallel normals)");
-  a /= an;
-  const Eigen::Vector3d m = line.tail<3>() / an;
-  Eigen::Vector3d c = a.cross(m);  // the axis point nearest the (normalised) origin
+  const Eigen::Vector3d& o = axis.o;
+  const Eigen::Vector3d& a = axis.a;
+  const double scale = axis.scale;
+  Eigen::Vector3d c = axis.c;
   // Cross-section: in the half-plane through the axis, (ρᵢ, zᵢ) lie on the circle of radius r
   // about (R, z₀): the algebraic (Kåsa) circle ρ² + z² + Dρ + Ez + F = 0 by weighted least squares.
   Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();

@@ -90,6 +90,14 @@ FitResult estimateCone(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                        const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
                        const Eigen::Ref<const Eigen::VectorXd>& weights,
                        const FitOptions& options = {});
+/// Cone from its axis: the line that meets every normal line (as the torus's, below), then the
+/// generator line ρ = α z + β of (height along the axis, distance from it). A second start for
+/// fitPrimitive where estimateCone's apex — the point nearest every tangent plane — is ill-posed:
+/// a patch of a wide cone seen from one side, whose tangent planes are nearly parallel.
+FitResult estimateConeAboutAxis(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                const Eigen::Ref<const Eigen::VectorXd>& weights,
+                                const FitOptions& options = {});
 
 /// Torus: the axis is the line that meets every normal line (least squares in Plücker
 /// coordinates, normalised), the major radius, height and minor radius the algebraic circle fit
