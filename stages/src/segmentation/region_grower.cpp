@@ -37,6 +37,12 @@ FitResult RegionGrower::fit(PrimitiveType type, const std::vector<int>& members,
   return fitPrimitive(type, p, n, Eigen::VectorXd::Ones(p.cols()));
 }
 
+FitResult RegionGrower::screen(PrimitiveType type, const std::vector<int>& members) const {
+  Eigen::Matrix3Xd p, n;
+  gather(members, false, p, n, kTypeSubset);
+  return fitPrimitive(type, p, n, Eigen::VectorXd::Ones(p.cols()));
+}
+
 double RegionGrower::smallestTolerance(const std::vector<int>& members) const {
   double floor = std::numeric_limits<double>::infinity();
   for (int i : members)

@@ -41,6 +41,9 @@ class RegionGrower {
   /// Fits \a type to the members; with \a all false, to an evenly strided subset of at most
   /// kSubset of them.
   FitResult fit(PrimitiveType type, const std::vector<int>& members, bool all = false) const;
+  /// Fits \a type to an evenly strided subset of at most kTypeSubset members: a candidate of a
+  /// type choice, refitted with fit() once chosen.
+  FitResult screen(PrimitiveType type, const std::vector<int>& members) const;
   /// Each member's weight (t_min / t_i)², t_i its tolerance and t_min the smallest of the
   /// members': 1 for all when the tolerances are equal.
   Eigen::VectorXd precisionWeights(const std::vector<int>& members) const;

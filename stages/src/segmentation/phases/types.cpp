@@ -108,7 +108,7 @@ void reviseTypes(SegmentationState& s) {
     for (const auto& [type, name] : kPrimitiveTypeNames) {
       if (type == s.fits[r].type)
         continue;
-      FitResult fit = grower.fit(type, members);
+      FitResult fit = grower.screen(type, members);
       if (!fit.ok() || isNearlyDegenerate(fit.refined, own_points) ||
           fit.rms_distance > (1.0 + kAdequacyMargin) * s.fits[r].rms_distance)
         continue;
@@ -121,6 +121,9 @@ void reviseTypes(SegmentationState& s) {
       }
     }
     if (choice) {
+      // Chosen on kTypeSubset members (as fitBest chooses), refitted on up to kSubset.
+      if (FitResult refit = grower.fit(choice->type, members); refit.ok())
+        choice = std::move(refit);
       s.fits[r] = std::move(*choice);
       ++s.result.revised;
     }
