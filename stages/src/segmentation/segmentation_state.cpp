@@ -5,6 +5,8 @@
 #include "slipfit/core/threads.h"
 #include "slipfit/segmentation/segmentation_tuning.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -143,8 +145,29 @@ bool SegmentationState::isScattered(const std::vector<int>& set,
   ++generation;
   for (int i : set)
     stamp[static_cast<std::size_t>(i)] = generation;
-  return medianNearestWithin(hoods, set, stamp, generation) >
-         SegmentationTuning::scattered * around;
+  if (medianNearestWithin(hoods, set, stamp, generation) <= SegmentationTuning::scattered * around)
+    return false;
+  if (found)
+    return true;
+  // No region around to compare with, and sparser than the cloud's median spacing: a post far
+  // from a LiDAR has returns 5–7 cm apart where the ground near the scanner sets that spacing at
+  // 1 cm (and a crop that removes the near ground would decide otherwise). Scattered unless the
+  // set lies in a sheet (SegmentationTuning::isolated_thinness), as points thrown through a
+  // volume do not.
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int i : set)
+    mean += points.col(i);
+  mean /= static_cast<double>(set.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (int i : set) {
+    const Eigen::Vector3d d = points.col(i) - mean;
+    covariance.noalias() += d * d.transpose();
+  }
+  const Eigen::Vector3d lambda =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance, Eigen::EigenvaluesOnly)
+          .eigenvalues();
+  return !(lambda(1) > 0.0) ||
+         std::sqrt(std::max(0.0, lambda(0)) / lambda(1)) >= SegmentationTuning::isolated_thinness;
 }
 
 double SegmentationState::normalAngle(int i, const Primitive& primitive) const {

@@ -7,12 +7,15 @@
 #include "points_cloud.h"
 #include "segment_cloud.h"
 
+#include "slipfit/sampling/range_scanner.h"
 #include "slipfit/sampling/scene_sampler.h"
 #include "slipfit/segmentation/segmentation_kernel.h"
 
 #include <gtest/gtest.h>
 #include <pcl/point_types.h>
 
+#include <iostream>
+#include <map>
 #include <string>
 
 namespace slipfit {
@@ -80,6 +83,55 @@ TEST(ScatteredPoints, OutliersInTheVolumeAreNoSmallFaces) {
     kernel.runPhases(Phase::absorb_fragments, Phase::drop_non_surfaces);
     EXPECT_EQ(outlierRegions(kernel, truth), 0u) << what;
     EXPECT_LE(live(kernel), scenePrimitives().size() + 1) << what;
+  }
+}
+
+// The other side of the rule: a set with no region around it is judged by its own shape, not by
+// the cloud's spacing. Posts 14–20 m from a terrestrial LiDAR (radius 0.1–0.15 m, 3 m tall, no
+// ground returns there beyond 80° of incidence) have returns 5–7 cm apart where the cloud's
+// median spacing is about 1 cm: against that spacing every seed on them read as scattered, and
+// the posts stayed unassigned. Each post must be found: one segment holds at least 95 % of its
+// returns (measured 99.2–100 % on these seeds; without the rule posts 1 and 2 had none).
+TEST(ScatteredPoints, FarPostsOfALidarScanAreFound) {
+  SensorScene scene;
+  scene.pieces.push_back(parallelogram(Eigen::Vector3d(-30, -30, 0), Eigen::Vector3d(60, 0, 0),
+                                       Eigen::Vector3d(0, 60, 0)));
+  const double where[3][3] = {{14.0, 0.3, 0.10}, {-17.0, 2.0, 0.12}, {3.0, 20.0, 0.15}};
+  for (const auto& post : where)
+    scene.pieces.push_back(
+        cylinderSide(Eigen::Vector3d(post[0], post[1], 0), Eigen::Vector3d::UnitZ(), post[2], 3.0));
+  scene.focus = Eigen::Vector3d::Zero();
+  scene.extent = 30.0;
+  RangeSensorParameters sensor;
+  sensor.sensor = RangeSensorKind::lidar;
+  for (std::uint64_t seed : {1u, 2u}) {
+    const RangeScan scan = scanScene(scene, sensor, seed);
+    std::vector<Eigen::Index> kept;
+    for (Eigen::Index i = 0; i < scan.points.cols(); ++i)
+      if (scan.points.col(i).allFinite())
+        kept.push_back(i);
+    Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(kept.size()));
+    for (std::size_t j = 0; j < kept.size(); ++j)
+      points.col(static_cast<Eigen::Index>(j)) = scan.points.col(kept[j]);
+    const testing::SegmentedCloud out = testing::segmentCloud(testing::pointsCloud(points), 12);
+    for (std::int32_t post = 1; post <= 3; ++post) {
+      std::size_t returns = 0;
+      std::map<std::int32_t, std::size_t> votes;
+      for (std::size_t j = 0; j < kept.size(); ++j)
+        if (scan.labels[static_cast<std::size_t>(kept[j])] == post) {
+          ++returns;
+          if (out.result.labels[j] >= 0)
+            ++votes[out.result.labels[j]];
+        }
+      std::size_t best = 0;
+      for (const auto& [label, count] : votes)
+        best = std::max(best, count);
+      std::cout << "seed " << seed << ", post " << post << ": " << returns << " returns, " << best
+                << " in one segment\n";
+      ASSERT_GT(returns, 60u) << "seed " << seed << " post " << post;
+      EXPECT_GE(static_cast<double>(best), 0.95 * static_cast<double>(returns))
+          << "seed " << seed << " post " << post;
+    }
   }
 }
 
