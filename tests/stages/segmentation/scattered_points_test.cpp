@@ -90,7 +90,7 @@ TEST(ScatteredPoints, OutliersInTheVolumeAreNoSmallFaces) {
 // the cloud's spacing. Posts 14–20 m from a terrestrial LiDAR (radius 0.1–0.15 m, 3 m tall, no
 // ground returns there beyond 80° of incidence) have returns 5–7 cm apart where the cloud's
 // median spacing is about 1 cm: against that spacing every seed on them read as scattered, and
-// the posts stayed unassigned. Each post must be found: one segment holds at least 95 % of its
+// the posts stayed unassigned. Each post must be found: one segment holds at least 99 % of its
 // returns (measured 99.2–100 % on these seeds; without the rule posts 1 and 2 had none).
 TEST(ScatteredPoints, FarPostsOfALidarScanAreFound) {
   SensorScene scene;
@@ -129,7 +129,7 @@ TEST(ScatteredPoints, FarPostsOfALidarScanAreFound) {
       std::cout << "seed " << seed << ", post " << post << ": " << returns << " returns, " << best
                 << " in one segment\n";
       ASSERT_GT(returns, 60u) << "seed " << seed << " post " << post;
-      EXPECT_GE(static_cast<double>(best), 0.95 * static_cast<double>(returns))
+      EXPECT_GE(static_cast<double>(best), 0.99 * static_cast<double>(returns))
           << "seed " << seed << " post " << post;
     }
   }
