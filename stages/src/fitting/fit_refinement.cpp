@@ -1,12 +1,12 @@
 // Refinement of a primitive on the true weighted geometric loss Σ wᵢ D²(pᵢ, A) by
-// Levenberg–Marquardt (Eigen's unsupported module, exact Jacobian), in coordinates centred on
-// the weighted centroid and scaled to unit RMS radius; plus fitPrimitive and fitAuto.
+// Levenberg–Marquardt on the normal equations (levenberg_marquardt.h, exact Jacobian), in
+// coordinates centred on the weighted centroid and scaled to unit RMS radius; plus fitPrimitive
+// and fitAuto.
 #include "slipfit/fitting/weighted_fit.h"
 
 #include "slipfit/core/angle_units.h"
+#include "slipfit/fitting/levenberg_marquardt.h"
 #include "slipfit/fitting/model_selection.h"
-
-#include <unsupported/Eigen/NonLinearOptimization>
 
 #include <Eigen/Geometry>
 
@@ -157,46 +157,70 @@ double offAxis(const Eigen::Vector3d& w, const Eigen::Vector3d& axis, double h,
                Eigen::Vector3d* unit) {
   const Eigen::Vector3d q = w - h * axis;
   const double rho = q.norm();
-  *unit = rho > 0.0 ? Eigen::Vector3d(q / rho) : Eigen::Vector3d::Zero();
+  *unit = rho > 0.0 ? Eigen::Vector3d(q * (1.0 / rho)) : Eigen::Vector3d::Zero();
   return rho;
 }
 
 /// The residuals √wᵢ · signedDistance(pᵢ, chart.decode(x)) and their exact Jacobian (one pass over
 /// the points instead of the chart's size + 1 of a numerical one).
 struct Residuals {
-  using Scalar = double;
-  enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
-  using InputType = Eigen::VectorXd;
-  using ValueType = Eigen::VectorXd;
-  using JacobianType = Eigen::MatrixXd;
-
   const Chart* chart;
   const Eigen::Matrix3Xd* points;  // normalised, positive weights only
   const Eigen::VectorXd* sqrt_w;
-  int inputs() const { return chart->size(); }
-  int values() const { return static_cast<int>(points->cols()); }
-  int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
+  void residuals(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
+    f.resize(points->cols());
     signedDistances(*points, chart->decode(x), f);
     f.array() *= sqrt_w->array();
-    return 0;
   }
-  int df(const Eigen::VectorXd& x, Eigen::MatrixXd& jac) const {
+  /// JᵀJ and Jᵀf of the residuals f at \a x, accumulated point by point (each point's row of J
+  /// in a fixed-size vector of the primitive's P parameters: no m × p matrix is stored).
+  void normalEquations(const Eigen::VectorXd& x, const Eigen::VectorXd& f, Eigen::MatrixXd& a,
+                       Eigen::VectorXd& g) const {
     const Primitive shape = chart->decode(x);
     const Eigen::Index n = points->cols();
     std::visit(
         [&](const auto& s) {
           using T = std::decay_t<decltype(s)>;
+          constexpr int P = std::is_same_v<T, Plane>      ? 3
+                            : std::is_same_v<T, Sphere>   ? 4
+                            : std::is_same_v<T, Cylinder> ? 5
+                            : std::is_same_v<T, Cone>     ? 6
+                                                          : 7;
+          // Rows of J gathered in blocks of kBlock and added as Bᵀ B, Bᵀ f: dot products over
+          // the block's columns instead of a rank-one update of the P × P sums per point.
+          constexpr int kBlock = 32;
+          Eigen::Matrix<double, P, P> sum_a = Eigen::Matrix<double, P, P>::Zero();
+          Eigen::Matrix<double, P, 1> sum_g = Eigen::Matrix<double, P, 1>::Zero();
+          Eigen::Matrix<double, kBlock, P> block;
+          Eigen::Matrix<double, kBlock, 1> block_f;
+          int filled = 0;
+          Eigen::Matrix<double, P, 1> r;  // ∂dᵢ/∂x, the unweighted row of J
+          auto flush = [&]() {  // a partial block is padded with zero rows, which add nothing
+            block.bottomRows(kBlock - filled).setZero();
+            block_f.tail(kBlock - filled).setZero();
+            sum_a.noalias() += block.transpose().lazyProduct(block);
+            sum_g.noalias() += block.transpose().lazyProduct(block_f);
+            filled = 0;
+          };
+          auto add = [&](Eigen::Index i) {
+            block.row(filled) = (*sqrt_w)[i] * r.transpose();
+            block_f[filled] = f[i];
+            if (++filled == kBlock)
+              flush();
+          };
           if constexpr (std::is_same_v<T, Plane>) {
             const auto turn =
                 turnDerivative(*chart, std::get<Plane>(chart->base).normal, x[0], x[1]);
             for (Eigen::Index i = 0; i < n; ++i) {
-              jac.row(i).head<2>() = points->col(i).transpose() * turn;
-              jac(i, 2) = -1.0;
+              r.template head<2>() = turn.transpose() * points->col(i);
+              r[2] = -1.0;
+              add(i);
             }
           } else if constexpr (std::is_same_v<T, Sphere>) {
             for (Eigen::Index i = 0; i < n; ++i) {
-              jac.row(i).head<3>() = -unitOrZero(points->col(i) - s.center).transpose();
-              jac(i, 3) = -1.0;
+              r.template head<3>() = -unitOrZero(points->col(i) - s.center);
+              r[3] = -1.0;
+              add(i);
             }
           } else if constexpr (std::is_same_v<T, Cylinder>) {
             const auto turn =
@@ -206,10 +230,11 @@ struct Residuals {
               const double h = w.dot(s.axis);
               Eigen::Vector3d q;
               offAxis(w, s.axis, h, &q);
-              jac.row(i).head<2>() = (-h * q).transpose() * turn;
-              jac(i, 2) = -q.dot(chart->u);
-              jac(i, 3) = -q.dot(chart->v);
-              jac(i, 4) = -1.0;
+              r.template head<2>() = turn.transpose() * (-h * q);
+              r[2] = -q.dot(chart->u);
+              r[3] = -q.dot(chart->v);
+              r[4] = -1.0;
+              add(i);
             }
           } else if constexpr (std::is_same_v<T, Cone>) {
             const auto turn = turnDerivative(*chart, std::get<Cone>(chart->base).axis, x[3], x[4]);
@@ -220,13 +245,14 @@ struct Residuals {
               Eigen::Vector3d q;
               const double rho = offAxis(w, s.axis, h, &q);
               if (h * c + rho * sn < 0.0) {  // the apex is nearest: f = ‖w‖
-                jac.row(i).head<3>() = -unitOrZero(w).transpose();
-                jac.row(i).tail<3>().setZero();
-                continue;
+                r.template head<3>() = -unitOrZero(w);
+                r.template tail<3>().setZero();
+              } else {
+                r.template head<3>() = -c * q + sn * s.axis;
+                r.template segment<2>(3) = turn.transpose() * (-(c * h) * q - sn * w);
+                r[5] = -rho * sn - h * c;
               }
-              jac.row(i).head<3>() = (-c * q + sn * s.axis).transpose();
-              jac.row(i).segment<2>(3) = (-(c * h) * q - sn * w).transpose() * turn;
-              jac(i, 5) = -rho * sn - h * c;
+              add(i);
             }
           } else {
             const auto turn = turnDerivative(*chart, std::get<Torus>(chart->base).axis, x[0], x[1]);
@@ -239,16 +265,19 @@ struct Residuals {
               // ∂f/∂ρ = e/D and ∂f/∂z = z/D, D the distance to the circle of tube centres.
               const double fr = length > 0.0 ? e / length : 0.0;
               const double fz = length > 0.0 ? z / length : 0.0;
-              jac.row(i).head<2>() = (-(fr * z) * q + fz * w).transpose() * turn;
-              jac.row(i).segment<3>(2) = (-fr * q - fz * s.axis).transpose();
-              jac(i, 5) = -fr;
-              jac(i, 6) = -1.0;
+              r.template head<2>() = turn.transpose() * (-(fr * z) * q + fz * w);
+              r.template segment<3>(2) = -fr * q - fz * s.axis;
+              r[5] = -fr;
+              r[6] = -1.0;
+              add(i);
             }
           }
+          if (filled > 0)
+            flush();
+          a = sum_a;
+          g = sum_g;
         },
         shape);
-    jac.array().colwise() *= sqrt_w->array();
-    return 0;
   }
 };
 
@@ -334,19 +363,17 @@ Primitive refinePrimitive(const Primitive& initial,
   Residuals f{&chart, &q, &sw};
   Eigen::VectorXd x = Eigen::VectorXd::Zero(chart.size());
   Eigen::VectorXd start(used);
-  f(x, start);
+  f.residuals(x, start);
   // Already exact to the rounding of double coordinates: nothing left to minimise. (Steps there
   // are driven by rounding and, where the data fix a parameter only to second order — the axis of
   // a thin ring of a cylinder — wander by √ε ≈ 1e-8.)
   if (start.squaredNorm() <= kExactRms * kExactRms * sw.squaredNorm())
     return initial;
-  Eigen::LevenbergMarquardt<Residuals> lm(f);
-  lm.parameters.maxfev = max_iterations;
-  lm.parameters.xtol = 1e-14;
-  lm.parameters.ftol = 1e-14;
-  lm.minimize(x);
+  LevenbergMarquardtSettings settings;
+  settings.max_evaluations = max_iterations;
+  const LevenbergMarquardtOutcome outcome = minimizeLevenbergMarquardt(f, x, settings);
   if (iterations)
-    *iterations = static_cast<int>(lm.iter);
+    *iterations = outcome.iterations;
   const Primitive refined = canonical(fromNormalised(chart.decode(x), o, s), o);
   if (!valid(refined))
     return initial;

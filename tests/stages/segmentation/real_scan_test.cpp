@@ -82,11 +82,12 @@ std::size_t assigned(const SegmentationResult& r) {
 // The table: 0.6–1.8 m from the camera, depth steps 1–12 mm. PCL's RANSAC plane (1 cm threshold,
 // refined on its inliers) is a random estimator: over 100 orders of the same points its planes lie
 // up to 0.23° from their mean, and the run in the file's order is 0.16° from it. Measured: the
-// table one plane segment, 0.121° from that single run and 0.105° from the mean of the 100, holding
-// 97.8 % of the run's inliers (92 % before fragments were absorbed, 184 segments then, 70 now);
+// table one plane segment, 0.122° from that single run and 0.106° from the mean of the 100, holding
+// 97.7 % of the run's inliers (92 % before fragments were absorbed, 184 segments then, 70 now);
 // 95 % of the scan assigned. The issues' 0.1° is not reached; the oracle itself does not hold it:
 // PCL's own 100 runs are within 0.1° of each other in 3153 of 4950 pairs (64 %), and 13 of the 99
-// others are within 0.1° of the file-order run (24 of the 100 are within 0.1° of slipfit's table);
+// others are within 0.1° of the file-order run (23 of the 100 are within 0.1° of slipfit's table:
+// 24 before the normal-equation LM moved the table by 0.0003°);
 // PCL's plane at thresholds of 0.4, 0.6, 0.8, 1.25 cm lies 0.13, 0.06, 0.03, 0.04° from its plane
 // at 1 cm, and 0.39° at 1.5 cm (the Kinect's depth distortion bends the far table by 1–2 cm, and
 // each threshold takes a different share of the bend).
@@ -125,7 +126,7 @@ TEST(RealScan, MilkCartonTableIsOnePlaneNearPclRansacsAndNoSegmentIsADepthSlice)
   ASSERT_EQ(runs.size(), 100u);
   EXPECT_LE(agreeing_pairs, 3153u) << "PCL's RANSAC planes agree within 0.1° in 64 % of pairs";
   EXPECT_LE(near_first, 13u) << "13 of PCL's 99 other runs are within 0.1° of the file-order run";
-  EXPECT_GE(near_slipfit, 24u) << "24 of PCL's 100 runs are within 0.1° of slipfit's table";
+  EXPECT_GE(near_slipfit, 23u) << "23 of PCL's 100 runs are within 0.1° of slipfit's table";
   std::size_t shared = 0;
   for (const auto i : inliers.indices)
     shared += r.labels[static_cast<std::size_t>(i)] == static_cast<std::int32_t>(k) ? 1 : 0;
