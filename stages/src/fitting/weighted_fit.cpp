@@ -547,6 +547,33 @@ FitResult estimateConeAboutAxis(const Points& points, const Points& normals, con
   return r;
 }
 
+FitResult estimateCylinderAboutAxis(const Points& points, const Points& normals,
+                                    const Weights& weights, const FitOptions&) {
+  Eigen::Index first = -1;
+  FitResult r = checkInput(PrimitiveType::cylinder, points, &normals, weights, &first);
+  if (!r.ok())
+    return r;
+  const RevolutionAxis axis = revolutionAxis(points, normals, weights, first);
+  if (!axis.failed.empty())
+    return failure(PrimitiveType::cylinder, FitStatus::degenerate, "cylinder fit: " + axis.failed);
+  // The radius minimising Σ wᵢ (ρᵢ − r)² for this axis: the weighted mean distance from it.
+  double wsum = 0.0, rho = 0.0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0) {
+      const Eigen::Vector3d v = (points.col(i) - axis.o) / axis.scale - axis.c;
+      wsum += weights[i];
+      rho += weights[i] * (v - v.dot(axis.a) * axis.a).norm();
+    }
+  rho /= wsum;
+  if (!(rho > 0.0 && std::isfinite(rho)))
+    return failure(PrimitiveType::cylinder, FitStatus::degenerate,
+                   "cylinder fit: the points lie on the axis the normal lines meet");
+  r.reciprocal_condition = axis.rcond;
+  r.algebraic = Cylinder{axis.a, axis.o + axis.scale * axis.c, axis.scale * rho};
+  finish(r);
+  return r;
+}
+
 FitResult estimateTorus(const Points& points, const Points& normals, const Weights& weights,
                         const FitOptions& options) {
   Eigen::Index first = -1;

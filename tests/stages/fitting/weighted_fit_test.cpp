@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <iostream>
 #include <random>
 #include <type_traits>
 
@@ -442,6 +443,70 @@ TEST(Distances, MatchBruteForceNearestPoints) {
   const Cone c{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d::Zero(), 30 * kDegree};
   EXPECT_DOUBLE_EQ(distance(Eigen::Vector3d(0, 0, -2), c), 2.0);
   EXPECT_NEAR(distance(Eigen::Vector3d(1, 0, 0), c), std::cos(30 * kDegree), 1e-15);
+}
+
+/// A band of \a arc radians of a cylinder of radius 4 about the z axis through (0, 0, 3), 2 long,
+/// \a n points drawn uniformly over it, each normal turned by a random angle of \a normal_noise
+/// radians (PCA normals of a CAD part: bent near the band's edges).
+struct Band {
+  Eigen::Matrix3Xd points, normals;
+};
+Band cylinderBand(double arc, int n, double normal_noise, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> g(0.0, 1.0);
+  Band b;
+  b.points.resize(3, n);
+  b.normals.resize(3, n);
+  for (int i = 0; i < n; ++i) {
+    const double t = arc * (u(rng) - 0.5), z = 2.0 * u(rng);
+    const Eigen::Vector3d radial(std::cos(t), std::sin(t), 0.0);
+    b.points.col(i) = Eigen::Vector3d(0.0, 0.0, 3.0) + 4.0 * radial + z * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d turn(g(rng), g(rng), g(rng));
+    b.normals.col(i) = (radial + normal_noise * (turn - turn.dot(radial) * radial)).normalized();
+  }
+  return b;
+}
+
+// The axis the normal lines meet is exact on exact data, as the closed forms are.
+TEST(WeightedFit, ACylinderFromTheAxisItsNormalLinesMeetIsExactOnExactData) {
+  const Band b = cylinderBand(1.0, 200, 0.0, 3);
+  const FitResult r =
+      estimateCylinderAboutAxis(b.points, b.normals, Eigen::VectorXd::Ones(b.points.cols()));
+  ASSERT_TRUE(r.ok()) << r.reason;
+  const auto& c = std::get<Cylinder>(r.algebraic);
+  EXPECT_NEAR(std::abs(c.axis.z()), 1.0, 1e-12);
+  EXPECT_NEAR(c.radius, 4.0, 1e-9);
+  EXPECT_NEAR(Eigen::Vector2d(c.point.x(), c.point.y()).norm(), 0.0, 1e-9);
+}
+
+// A band of 5.7° (0.1 rad) of a radius-4 cylinder, 2 long, with normals 5° off (Fit4CAD PC167's
+// bands: 6°, PCA normals): Σ nnᵀ's least direction, estimateCylinder's axis, is set by the
+// normals' noise as much as by the band's fan across the axis (0.1²/12 = 8e-4 against the noise's
+// 0.087² = 0.0076), and the refinement from it runs out to the flat limit in 7 of 20 draws
+// (measured). fitPrimitive's second start, from the axis the normal lines meet (positions fix
+// that line), gives the band's cylinder in 19 of the 20; in the last both starts end flat.
+TEST(WeightedFit, ANarrowBandOfAWideCylinderIsFoundFromTheAxisItsNormalLinesMeet) {
+  int found = 0, found_first = 0;
+  const auto isTheBand = [](const Primitive& p) {
+    const auto* c = std::get_if<Cylinder>(&p);
+    // Exact positions: the band's cylinder to the refinement's stopping rule.
+    return c && std::abs(c->radius - 4.0) < 1e-6 && std::abs(std::abs(c->axis.z()) - 1.0) < 1e-9;
+  };
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const Band b = cylinderBand(0.1, 180, 5.0 * kDegree, seed);
+    const Eigen::VectorXd w = Eigen::VectorXd::Ones(b.points.cols());
+    const FitResult first = estimateCylinder(b.points, b.normals, w);
+    if (first.ok())
+      found_first += isTheBand(refinePrimitive(first.algebraic, b.points, w, 100)) ? 1 : 0;
+    const FitResult r = fitPrimitive(PrimitiveType::cylinder, b.points, b.normals, w);
+    ASSERT_TRUE(r.ok()) << r.reason;
+    found += isTheBand(r.refined) ? 1 : 0;
+  }
+  std::cout << "the band's cylinder in " << found << " of 20 draws, from the first start alone in "
+            << found_first << "\n";
+  EXPECT_GE(found, 19);
+  EXPECT_LE(found_first, 13) << "the case the second start is for did not occur";
 }
 
 }  // namespace

@@ -99,6 +99,16 @@ FitResult estimateConeAboutAxis(const Eigen::Ref<const Eigen::Matrix3Xd>& points
                                 const Eigen::Ref<const Eigen::VectorXd>& weights,
                                 const FitOptions& options = {});
 
+/// Cylinder from its axis: the line that meets every normal line (as the torus's, below; a
+/// cylinder's normal lines also all meet the line at infinity along its axis, which leaves the
+/// direction and the axis point determined), the radius the points' mean distance from it. A
+/// second start for fitPrimitive where estimateCylinder's axis — the direction every normal is
+/// perpendicular to — is ill-posed: a narrow band of a wide cylinder, whose normals barely turn.
+FitResult estimateCylinderAboutAxis(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                    const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                    const Eigen::Ref<const Eigen::VectorXd>& weights,
+                                    const FitOptions& options = {});
+
 /// Torus: the axis is the line that meets every normal line (least squares in Plücker
 /// coordinates, normalised), the major radius, height and minor radius the algebraic circle fit
 /// of (distance from the axis, height) — docs/THEORY.md §4. Degenerate for a sphere, plane or
