@@ -388,6 +388,36 @@ Primitive refinePrimitive(const Primitive& initial,
                                                                                           : initial;
 }
 
+namespace {
+
+/// Fills the RMS and largest distance of the fit \a r over the points with positive weight; a
+/// fit whose parameters or distances overflowed becomes a failed one.
+FitResult withDistances(FitResult r, const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                        const Eigen::Ref<const Eigen::VectorXd>& weights) {
+  double w = 0.0;
+  r.max_distance = 0.0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    if (weights[i] > 0.0) {
+      w += weights[i];
+      r.max_distance = std::max(r.max_distance, distance(points.col(i), r.refined));
+    }
+  r.rms_distance = std::sqrt(r.loss_refined / w);
+  // Finite inputs can still overflow (coordinates or weights near the double range): never
+  // report success with a NaN or inf.
+  if (!allFinite(r.algebraic) || !allFinite(r.refined) || !std::isfinite(r.rms_distance) ||
+      !std::isfinite(r.max_distance)) {
+    FitResult failed;
+    failed.type = r.type;
+    failed.status = FitStatus::degenerate;
+    failed.reason = std::string(primitiveTypeName(r.type)) +
+                    " fit: the result overflowed (coordinates or weights too large)";
+    return failed;
+  }
+  return r;
+}
+
+}  // namespace
+
 FitResult fitPrimitive(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                        const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
                        const Eigen::Ref<const Eigen::VectorXd>& weights,
@@ -450,26 +480,33 @@ FitResult fitPrimitive(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3
         r = std::move(second);
     }
   }
-  double w = 0.0;
-  r.max_distance = 0.0;
-  for (Eigen::Index i = 0; i < points.cols(); ++i)
-    if (weights[i] > 0.0) {
-      w += weights[i];
-      r.max_distance = std::max(r.max_distance, distance(points.col(i), r.refined));
-    }
-  r.rms_distance = std::sqrt(r.loss_refined / w);
-  // Finite inputs can still overflow (coordinates or weights near the double range): never
-  // report success with a NaN or inf.
-  if (!allFinite(r.algebraic) || !allFinite(r.refined) || !std::isfinite(r.rms_distance) ||
-      !std::isfinite(r.max_distance)) {
-    FitResult failed;
-    failed.type = type;
-    failed.status = FitStatus::degenerate;
-    failed.reason = std::string(primitiveTypeName(type)) +
-                    " fit: the result overflowed (coordinates or weights too large)";
-    return failed;
+  return withDistances(std::move(r), points, weights);
+}
+
+FitResult fitFrom(const Primitive& start, const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                  const Eigen::Ref<const Eigen::VectorXd>& weights, const FitOptions& options) {
+  options.validate();
+  FitResult r;
+  r.type = typeOf(start);
+  if (points.cols() != weights.size() || !allFinite(start)) {
+    r.status = FitStatus::invalid_input;
+    r.reason = std::string(primitiveTypeName(r.type)) +
+               " fit: the start is not finite or the weights do not match the points";
+    return r;
   }
-  return r;
+  r.used_points = static_cast<std::size_t>((weights.array() > 0.0).count());
+  if (r.used_points < static_cast<std::size_t>(minimumPoints(r.type))) {
+    r.status = FitStatus::too_few_points;
+    r.reason = std::string(primitiveTypeName(r.type)) + " fit: too few points with weight";
+    return r;
+  }
+  r.algebraic = r.refined = start;
+  r.loss_algebraic = r.loss_refined = weightedLoss(points, weights, start);
+  if (options.refine) {
+    r.refined = refinePrimitive(start, points, weights, options.max_iterations, &r.iterations);
+    r.loss_refined = weightedLoss(points, weights, r.refined);
+  }
+  return withDistances(std::move(r), points, weights);
 }
 
 FitResult fitAuto(const Eigen::Ref<const Eigen::Matrix3Xd>& points,

@@ -1,6 +1,7 @@
 #include "slipfit/segmentation/region_grower.h"
 
 #include "slipfit/core/median.h"
+#include "slipfit/fitting/model_selection.h"
 #include "slipfit/fitting/primitives.h"
 
 #include <algorithm>
@@ -64,6 +65,17 @@ FitResult RegionGrower::fitByPrecision(PrimitiveType type, const std::vector<int
   Eigen::Matrix3Xd p, n;
   gather(members, true, p, n, kSubset);
   return fitPrimitive(type, p, n, precisionWeights(members));
+}
+
+FitResult RegionGrower::fitNear(const Primitive& start, const std::vector<int>& members) const {
+  Eigen::Matrix3Xd p, n;
+  gather(members, false, p, n, kTypeSubset);
+  FitResult r = fitFrom(start, p, Eigen::VectorXd::Ones(p.cols()));
+  if (r.ok() && isNearlyDegenerate(r.refined, p)) {
+    r.status = FitStatus::degenerate;
+    r.reason = std::string(primitiveTypeName(r.type)) + " fit: in its simpler limit";
+  }
+  return r;
 }
 
 FitResult RegionGrower::fitBest(const std::vector<int>& members, bool refine) const {

@@ -177,6 +177,50 @@ TEST_P(RandomPoses, RefinementFromOnePercentOffConvergesInAFewSteps) {
   }
 }
 
+// fitFrom, the warm start the segmentation's merge tries first: from a start 1 % off, on
+// noise-free points it ends on the truth (the refinement's quadratic convergence, as above), and
+// on points with 1 % noise on the same least-squares minimum as fitPrimitive from its closed form
+// (both stop when a step changes the loss by less than 1e-14 of it: their losses agree to far
+// better than 1e-6). The start is kept as the result's algebraic primitive.
+TEST_P(RandomPoses, FitFromAStartOnePercentOffEndsOnTheClosedFormsMinimum) {
+  std::mt19937_64 rng(750 + static_cast<int>(GetParam()));
+  for (int trial = 0; trial < 10; ++trial) {
+    const Primitive truth = randomPrimitive(GetParam(), rng, 1.0, 2.0);
+    const Primitive start = perturbed(truth, 1.0);
+    const Sample exact = sample(truth, 1.0, 0.0, 3100 + trial);
+    const FitResult r = fitFrom(start, exact.points, exact.weights);
+    ASSERT_TRUE(r.ok()) << r.reason;
+    EXPECT_EQ(r.type, GetParam());
+    EXPECT_EQ(r.loss_algebraic, weightedLoss(exact.points, exact.weights, start));
+    EXPECT_EQ(weightedLoss(exact.points, exact.weights, r.algebraic), r.loss_algebraic);
+    EXPECT_LT(parameterError(r.refined, truth, 1.0), 1e-9) << "trial " << trial;
+    EXPECT_LT(r.rms_distance, 1e-9) << "trial " << trial;
+    EXPECT_EQ(r.used_points, static_cast<std::size_t>(exact.points.cols()));
+
+    const Sample noisy = sample(truth, 1.0, 0.01, 3200 + trial);
+    const FitResult warm = fitFrom(start, noisy.points, noisy.weights);
+    const FitResult cold = fitPrimitive(GetParam(), noisy.points, noisy.normals, noisy.weights);
+    ASSERT_TRUE(warm.ok() && cold.ok()) << warm.reason << cold.reason;
+    EXPECT_LE(warm.loss_refined, warm.loss_algebraic);
+    EXPECT_NEAR(warm.loss_refined, cold.loss_refined, 1e-6 * cold.loss_refined)
+        << "trial " << trial;
+    EXPECT_NEAR(warm.rms_distance, std::sqrt(warm.loss_refined / noisy.points.cols()), 1e-15);
+  }
+}
+
+TEST(WeightedFit, FitFromRefusesANonFiniteStartAndTooFewPoints) {
+  const Eigen::Matrix3Xd points = Eigen::Matrix3Xd::Random(3, 10);
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(10);
+  const Cylinder nan{Eigen::Vector3d::UnitZ(), Eigen::Vector3d(std::nan(""), 0, 0), 1.0};
+  const FitResult bad = fitFrom(nan, points, ones);
+  EXPECT_EQ(bad.status, FitStatus::invalid_input);
+  EXPECT_FALSE(bad.reason.empty());
+  const Cylinder c{Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), 1.0};
+  const FitResult few = fitFrom(c, points.leftCols(4), ones.head(4));
+  EXPECT_EQ(few.status, FitStatus::too_few_points) << "a cylinder needs 5 points";
+  EXPECT_EQ(fitFrom(c, points, ones.head(9)).status, FitStatus::invalid_input);
+}
+
 TEST_P(RandomPoses, OnePercentNoise) {
   std::mt19937_64 rng(200 + static_cast<int>(GetParam()));
   for (int trial = 0; trial < 20; ++trial) {

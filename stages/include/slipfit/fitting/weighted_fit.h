@@ -131,6 +131,13 @@ Primitive refinePrimitive(const Primitive& initial,
                           const Eigen::Ref<const Eigen::VectorXd>& weights, int max_iterations,
                           int* iterations = nullptr);
 
+/// The fit of \a start's type to the points, refined from \a start (no closed form): a warm start
+/// where a nearby primitive is known, e.g. the larger region's when two regions are tried as one.
+/// The result's algebraic primitive is \a start; its losses and distances are those of
+/// fitPrimitive. Fails (invalid_input, too_few_points) as fitPrimitive does.
+FitResult fitFrom(const Primitive& start, const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                  const Eigen::Ref<const Eigen::VectorXd>& weights, const FitOptions& options = {});
+
 /// Fits every type (those that need normals only when \a normals has one per point) and keeps
 /// the simplest adequate one (model_selection.h: within 25 % of the best RMS distance, plus a
 /// floor of 1e-7 of the data's size and distance from the origin for noise-free float data), so

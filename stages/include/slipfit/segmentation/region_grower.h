@@ -52,6 +52,11 @@ class RegionGrower {
   /// that is the inverse-variance weight of least squares; with one tolerance for all members,
   /// every weight is 1 and this is fit(type, members, true).
   FitResult fitByPrecision(PrimitiveType type, const std::vector<int>& members) const;
+  /// \a start's type refined from \a start on an evenly strided subset of at most kTypeSubset
+  /// members (as fitBest's candidates): a trial of regions as one where one region's primitive
+  /// is already near the union's. Failed (degenerate) when the result lies in a simpler type's
+  /// limit, as fitBest drops such candidates.
+  FitResult fitNear(const Primitive& start, const std::vector<int>& members) const;
   /// The simplest adequate type for the members (with \a refine false: closed forms only, a
   /// quick look at a seed's neighborhood).
   FitResult fitBest(const std::vector<int>& members, bool refine = true) const;

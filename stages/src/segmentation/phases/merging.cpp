@@ -26,26 +26,6 @@ bool isCrease(const Primitive& a, const Primitive& b, double max_angle) {
   return pa && pb && std::abs(pa->normal.dot(pb->normal)) < std::cos(max_angle);
 }
 
-/// The best fit of regions a and b together, or nullopt when the larger (T::dominates × the other)
-/// does not hold half of the smaller's points. Reads only.
-std::optional<FitResult> tryMerge(const SegmentationState& s, std::size_t a, std::size_t b) {
-  // A region four times the other's size dominates the union's fit: its primitive must then
-  // hold most of the other's points already.
-  const RegionGrower& grower = *s.grower;
-  const std::size_t big = s.regions[a].size() >= s.regions[b].size() ? a : b;
-  const std::size_t small = big == a ? b : a;
-  if (s.regions[big].size() >= T::dominates * s.regions[small].size()) {
-    std::size_t held = 0;
-    for (int i : s.regions[small])
-      held += grower.near(i, s.fits[big].refined) ? 1 : 0;
-    if (2 * held < s.regions[small].size())
-      return std::nullopt;
-  }
-  std::vector<int> both = s.regions[a];
-  both.insert(both.end(), s.regions[b].begin(), s.regions[b].end());
-  return grower.fitBest(both);
-}
-
 /// One primitive of the larger region's type (\a joint) is the better model of regions a and b
 /// together than each region's own, by the Bayesian information criterion.
 bool unionIsSimpler(const SegmentationState& s, std::size_t a, std::size_t b,
@@ -68,12 +48,83 @@ bool unionIsSimpler(const SegmentationState& s, std::size_t a, std::size_t b,
                             parameterCount(s.fits[smaller].type));
 }
 
+/// Whether the merge accepts \a fit as the primitive of regions a and b together: its RMS distance
+/// at most merge_factor × the larger of the two regions' (two planes at a crease: below both),
+/// or, \a settled, unionIsSimpler.
+bool acceptsUnion(const SegmentationState& s, std::size_t a, std::size_t b, const FitResult& fit,
+                  bool settled) {
+  if (!fit.ok())
+    return false;
+  if (settled)
+    return unionIsSimpler(s, a, b, fit);
+  // Planes meeting at a crease merge only when one curved primitive explains their union
+  // better than either plane explains its own points: the facets of a wide fillet whose
+  // sagitta over each is within ε (on the 1 M-point scenes, seed 24: 0.940 → 0.949); two
+  // faces of a box never do. Other pairs merge while the union's fit is about as good.
+  const bool crease = isCrease(s.fits[a].refined, s.fits[b].refined, s.result.max_angle);
+  const double limit =
+      crease ? std::min(s.fits[a].rms_distance, s.fits[b].rms_distance)
+             : s.parameters.merge_factor * std::max(s.fits[a].rms_distance, s.fits[b].rms_distance);
+  return fit.rms_distance <= limit;
+}
+
+/// A fit of two regions together, whether the merge accepts it (acceptsUnion), and whether its
+/// type is the one fitBest chooses for the union.
+struct UnionTrial {
+  FitResult fit;
+  bool accepted = false;
+  bool chosen = false;
+};
+
+/// The fit of regions a and b together, judged, or nullopt when the larger (T::dominates × the
+/// other) does not hold half of the smaller's points. \a chosen: per region, whether its type is
+/// the one fitBest chose for its members. Reads only.
+std::optional<UnionTrial> tryMerge(const SegmentationState& s, std::size_t a, std::size_t b,
+                                   bool settled, const std::vector<char>& chosen) {
+  // A region four times the other's size dominates the union's fit: its primitive must then
+  // hold most of the other's points already.
+  const RegionGrower& grower = *s.grower;
+  const std::size_t big = s.regions[a].size() >= s.regions[b].size() ? a : b;
+  const std::size_t small = big == a ? b : a;
+  const bool dominated = s.regions[big].size() >= T::dominates * s.regions[small].size();
+  if (dominated) {
+    std::size_t held = 0;
+    for (int i : s.regions[small])
+      held += grower.near(i, s.fits[big].refined) ? 1 : 0;
+    if (2 * held < s.regions[small].size())
+      return std::nullopt;
+  }
+  std::vector<int> both = s.regions[a];
+  both.insert(both.end(), s.regions[b].begin(), s.regions[b].end());
+  // A dominated union is most often the larger region's surface with a little more of it (a
+  // table taking fragments of its own noise one by one). When fitBest chose the larger's type
+  // for its members, and the larger's primitive, refined on the union, explains the union as
+  // well as it explained the larger alone (within fitBest's margin of adequacy), the smaller
+  // brings no evidence for another type: the union keeps the larger's type without fitting every
+  // type again, and converges in a few steps from the larger's primitive. A type that growth
+  // kept from a seed is not one fitBest chose: a narrow band of a cylinder grown as a sphere of
+  // RMS 0.0037 took cone fragments as a sphere (Fit4CAD PC51, Dice 0.961 → 0.953) where every
+  // type tried on the union gives the cylinder.
+  if (dominated && chosen[big]) {
+    FitResult near = grower.fitNear(s.fits[big].refined, both);
+    if (near.ok() && near.rms_distance <= (1.0 + kAdequacyMargin) * s.fits[big].rms_distance &&
+        acceptsUnion(s, a, b, near, settled))
+      return UnionTrial{std::move(near), true, true};
+  }
+  FitResult best = grower.fitBest(both);
+  const bool accepted = acceptsUnion(s, a, b, best, settled);
+  return UnionTrial{std::move(best), accepted, true};
+}
+
 /// Merges adjacent regions, round after round: while the union's best fit has an RMS distance
 /// at most merge_factor × the larger of the two regions' (two planes at a crease: below both),
 /// or, \a settled, while unionIsSimpler.
 void mergeAdjacent(SegmentationState& s, bool settled) {
   std::vector<int> version(s.regions.size(), 0);
   std::set<std::tuple<std::size_t, std::size_t, int, int>> failed;
+  // Whether each region's type is fitBest's choice for its members: a grown region's type is its
+  // seed's, a merged one's is known.
+  std::vector<char> chosen(s.regions.size(), 0);
   for (bool merged = true; merged;) {
     merged = false;
     // Ordered pairs (a < b, a's points having b's among their neighbors): deterministic.
@@ -89,11 +140,11 @@ void mergeAdjacent(SegmentationState& s, bool settled) {
     for (const auto& [a, b] : adjacent)
       if (!failed.count(std::make_tuple(a, b, version[a], version[b])))
         pairs.emplace_back(a, b);
-    std::vector<std::optional<FitResult>> tried(pairs.size());
+    std::vector<std::optional<UnionTrial>> tried(pairs.size());
     const int workers = s.workers();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(workers)
     for (std::size_t k = 0; k < pairs.size(); ++k)
-      tried[k] = tryMerge(s, pairs[k].first, pairs[k].second);
+      tried[k] = tryMerge(s, pairs[k].first, pairs[k].second, settled, chosen);
     const std::vector<int> round_version = version;
     std::size_t next = 0;
     for (const auto& [a, b] : adjacent) {
@@ -104,33 +155,19 @@ void mergeAdjacent(SegmentationState& s, bool settled) {
         continue;  // tried before, neither has changed since
       while (next < pairs.size() && pairs[next] < std::make_pair(a, b))
         ++next;
-      std::optional<FitResult> union_fit =
+      std::optional<UnionTrial> trial =
           next < pairs.size() && pairs[next] == std::make_pair(a, b) &&
                   version[a] == round_version[a] && version[b] == round_version[b]
               ? std::move(tried[next])
-              : tryMerge(s, a, b);
-      if (!union_fit) {
-        failed.insert(key);
-        continue;
-      }
-      FitResult fit = std::move(*union_fit);
-      // Planes meeting at a crease merge only when one curved primitive explains their union
-      // better than either plane explains its own points: the facets of a wide fillet whose
-      // sagitta over each is within ε (on the 1 M-point scenes, seed 24: 0.940 → 0.949); two
-      // faces of a box never do. Other pairs merge while the union's fit is about as good.
-      const bool crease = isCrease(s.fits[a].refined, s.fits[b].refined, s.result.max_angle);
-      const double limit = crease ? std::min(s.fits[a].rms_distance, s.fits[b].rms_distance)
-                                  : s.parameters.merge_factor *
-                                        std::max(s.fits[a].rms_distance, s.fits[b].rms_distance);
-      const bool accepted =
-          fit.ok() && (settled ? unionIsSimpler(s, a, b, fit) : fit.rms_distance <= limit);
-      if (!accepted) {
+              : tryMerge(s, a, b, settled, chosen);
+      if (!trial || !trial->accepted) {
         failed.insert(key);
         continue;
       }
       ++version[a];
       s.moveInto(b, a);
-      s.fits[a] = std::move(fit);
+      s.fits[a] = std::move(trial->fit);
+      chosen[a] = trial->chosen ? 1 : 0;
       ++s.result.merges;
       merged = true;
     }
