@@ -78,6 +78,22 @@ FitResult RegionGrower::fitNear(const Primitive& start, const std::vector<int>& 
   return r;
 }
 
+bool RegionGrower::simplerTypeIsAdequate(PrimitiveType type, double rms,
+                                         const std::vector<int>& members) const {
+  Eigen::Matrix3Xd p, n;
+  gather(members, false, p, n, kTypeSubset);
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(p.cols());
+  for (const auto& [simpler, name] : kPrimitiveTypeNames) {
+    if (parameterCount(simpler) >= parameterCount(type))
+      continue;
+    const FitResult r = fitPrimitive(simpler, p, n, ones);
+    if (r.ok() && r.rms_distance <= (1.0 + kAdequacyMargin) * rms &&
+        !isNearlyDegenerate(r.refined, p))
+      return true;
+  }
+  return false;
+}
+
 FitResult RegionGrower::fitBest(const std::vector<int>& members, bool refine) const {
   Eigen::Matrix3Xd p, n;
   gather(members, false, p, n, kTypeSubset);

@@ -57,6 +57,10 @@ class RegionGrower {
   /// is already near the union's. Failed (degenerate) when the result lies in a simpler type's
   /// limit, as fitBest drops such candidates.
   FitResult fitNear(const Primitive& start, const std::vector<int>& members) const;
+  /// Whether a type simpler than \a type (fewer parameters) explains an evenly strided subset of
+  /// at most kTypeSubset members within the margin of adequacy of \a rms (model_selection.h), out
+  /// of its flat limit: fitBest could then choose it over a fit of \a type with that RMS.
+  bool simplerTypeIsAdequate(PrimitiveType type, double rms, const std::vector<int>& members) const;
   /// The simplest adequate type for the members (with \a refine false: closed forms only, a
   /// quick look at a seed's neighborhood).
   FitResult fitBest(const std::vector<int>& members, bool refine = true) const;

@@ -105,15 +105,42 @@ std::optional<UnionTrial> tryMerge(const SegmentationState& s, std::size_t a, st
   // kept from a seed is not one fitBest chose: a narrow band of a cylinder grown as a sphere of
   // RMS 0.0037 took cone fragments as a sphere (Fit4CAD PC51, Dice 0.961 → 0.953) where every
   // type tried on the union gives the cylinder.
+  // Nor for a simpler type than the larger's: a cone region took fragments of its cylinder as a
+  // cone (simulated tabletop seed 2) where every type tried on the union gives the cylinder, the
+  // simpler type adequate on the union though not on the larger alone.
   if (dominated && chosen[big]) {
     FitResult near = grower.fitNear(s.fits[big].refined, both);
     if (near.ok() && near.rms_distance <= (1.0 + kAdequacyMargin) * s.fits[big].rms_distance &&
-        acceptsUnion(s, a, b, near, settled))
+        acceptsUnion(s, a, b, near, settled) &&
+        !grower.simplerTypeIsAdequate(near.type, near.rms_distance, both))
       return UnionTrial{std::move(near), true, true};
   }
   FitResult best = grower.fitBest(both);
   const bool accepted = acceptsUnion(s, a, b, best, settled);
   return UnionTrial{std::move(best), accepted, true};
+}
+
+/// Sets \a chosen for each region that dominates at least two of its neighbors (\a touching) and
+/// whose type fitBest chooses for its members: one fit of every type for such a region (a table
+/// among the fragments of its noise) in place of one for each union it is tried in.
+void confirmTypes(const SegmentationState& s, const std::vector<std::set<std::size_t>>& touching,
+                  std::vector<char>& chosen) {
+  std::vector<std::size_t> hubs;
+  for (std::size_t r = 0; r < touching.size(); ++r) {
+    if (!s.alive[r])
+      continue;
+    std::size_t dominated = 0;
+    for (const std::size_t b : touching[r])
+      dominated += s.regions[r].size() >= T::dominates * s.regions[b].size() ? 1 : 0;
+    if (dominated >= 2)
+      hubs.push_back(r);
+  }
+  const int workers = s.workers();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(workers)
+  for (std::size_t k = 0; k < hubs.size(); ++k) {
+    const FitResult best = s.grower->fitBest(s.regions[hubs[k]]);
+    chosen[hubs[k]] = best.ok() && best.type == s.fits[hubs[k]].type ? 1 : 0;
+  }
 }
 
 /// Merges adjacent regions, round after round: while the union's best fit has an RMS distance
@@ -125,11 +152,13 @@ void mergeAdjacent(SegmentationState& s, bool settled) {
   // Whether each region's type is fitBest's choice for its members: a grown region's type is its
   // seed's, a merged one's is known.
   std::vector<char> chosen(s.regions.size(), 0);
-  for (bool merged = true; merged;) {
+  for (bool merged = true, first = true; merged; first = false) {
     merged = false;
     // Ordered pairs (a < b, a's points having b's among their neighbors): deterministic.
     std::vector<std::pair<std::size_t, std::size_t>> adjacent;
     const std::vector<std::set<std::size_t>> touching = s.touchingRegions();
+    if (first)
+      confirmTypes(s, touching, chosen);
     for (std::size_t a = 0; a < touching.size(); ++a)
       for (const std::size_t b : touching[a])
         if (b > a)
