@@ -202,8 +202,10 @@ TEST(RealScan, TheMugFramesTableIsOnePlaneWithTheTutorialsCropAndWithout) {
 // PCL's plane test scan: its plane's points lie up to 3 cm off PCL's RANSAC plane (the median
 // 1.1 cm, spread evenly: not white noise a neighborhood sees), so the automatic tolerance (4.9
 // mm) is below most deviations and the plane filled its slab and was dropped as a volume: the
-// largest plane held 58 points. Kept now as a surface (phase 12), it holds ≥ 75 % of the 2,512
-// points within 3 cm of PCL's plane (measured 0.785); issue 34's 90 % is not reached.
+// largest plane held 58 points. Kept now as a surface (phase 12), it holds 78 % of the 2,512
+// points within 3 cm of PCL's plane (measured 0.782); issue 34's 90 % is not reached. Of the
+// others, within 1 cm of the segment's plane: 108 in a sphere of radius 0.76 m (RMS 1.7 mm, the
+// plane's own 2.6 mm: a patch the sensor bent), 99 in a cylinder of radius 3.3 cm, 57 free.
 TEST(RealScan, SacPlaneTestsPlaneIsOneSegment) {
   const std::string name = "sac_plane_test.pcd";
   const auto cloud = loadScan(name);
@@ -213,7 +215,7 @@ TEST(RealScan, SacPlaneTestsPlaneIsOneSegment) {
   const double share = planeShare(testing::segmentCloud(cloud, 12).result, oracle.inliers);
   std::cout << name << ": the plane holds " << share << " of PCL's "
             << oracle.inliers.indices.size() << " inliers\n";
-  EXPECT_GE(share, 0.75);
+  EXPECT_GE(share, 0.78);
 }
 
 }  // namespace
