@@ -130,7 +130,7 @@ class NeighborhoodSelection : public pcl::PCLBase<PointT> {
   void setParameters(const NeighborhoodParameters& parameters) { parameters_ = parameters; }
   const NeighborhoodParameters& getParameters() const { return parameters_; }
 
-  /// A search structure to use instead of a new pcl::search::KdTree. If its input cloud is
+  /// A search structure to use instead of a new NanoflannSearch (a kd-tree). If its input cloud is
   /// already the input cloud, it is not rebuilt.
   void setSearchMethod(const SearchPtr& search) { search_ = search; }
   SearchPtr getSearchMethod() const { return search_; }

@@ -8,6 +8,7 @@
 
 #include <pcl/common/point_tests.h>
 #include <pcl/search/kdtree.h>
+#include "slipfit/neighborhoods/nanoflann_search.h"
 
 #include <omp.h>
 #include <Eigen/Core>
@@ -88,7 +89,7 @@ std::vector<char> NeighborhoodSelection<PointT>::checkInput() {
 template <typename PointT>
 void NeighborhoodSelection<PointT>::prepareSearch() {
   if (!search_)
-    search_.reset(new pcl::search::KdTree<PointT>(true));
+    search_.reset(new NanoflannSearch<PointT>(true));
   search_->setSortedResults(true);
   if (search_->getInputCloud() != input_) {
     search_->setInputCloud(input_);

@@ -1,0 +1,164 @@
+#pragma once
+/// \file A kd-tree neighbour search built with nanoflann behind PCL's pcl::search::Search
+/// interface: any PCL class that takes a search method (setSearchMethod) can use it. Built once
+/// per cloud over its finite points (non-finite ones are never returned); each query is const and
+/// may run in parallel. Results of either search are sorted by distance, ties by the lower cloud
+/// index (by the earlier of the indices given, when they are not ascending): the k nearest are
+/// the k least by (distance, index), a list that does not depend on the tree's layout. Squared
+/// distances are in the cloud's float precision, as pcl::search::KdTree returns them; a radius
+/// search returns the points strictly within the radius.
+
+#if defined(NANOFLANN_HPP_) && !defined(NANOFLANN_FIRST_MATCH)
+#error "nanoflann.hpp was included without NANOFLANN_FIRST_MATCH: include this header first"
+#endif
+#ifndef NANOFLANN_FIRST_MATCH
+#define NANOFLANN_FIRST_MATCH  // equal distances: the lower index first (a stable order)
+#endif
+#include <nanoflann.hpp>
+
+#include <pcl/common/point_tests.h>
+#include <pcl/search/search.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace slipfit {
+
+template <typename PointT>
+class NanoflannSearch : public pcl::search::Search<PointT> {
+ public:
+  using Ptr = std::shared_ptr<NanoflannSearch<PointT>>;
+  using PointCloudConstPtr = typename pcl::search::Search<PointT>::PointCloudConstPtr;
+  using IndicesConstPtr = pcl::IndicesConstPtr;
+  // The base's other overloads (by cloud and index, many queries at once) call these.
+  using pcl::search::Search<PointT>::nearestKSearch;
+  using pcl::search::Search<PointT>::radiusSearch;
+
+  /// \a sorted: results by ascending distance (they always are; the flag is PCL's).
+  explicit NanoflannSearch(bool sorted = true)
+      : pcl::search::Search<PointT>("NanoflannSearch", sorted) {}
+  NanoflannSearch(const NanoflannSearch&) = delete;  // the tree holds a view of xyz_
+  NanoflannSearch& operator=(const NanoflannSearch&) = delete;
+
+  /// Builds the tree over the finite points of \a cloud (of \a indices when given).
+  void setInputCloud(const PointCloudConstPtr& cloud,
+                     const IndicesConstPtr& indices = IndicesConstPtr()) override {
+    this->input_ = cloud;
+    this->indices_ = indices;
+    xyz_.clear();
+    rows_.clear();
+    tree_.reset();
+    if (!cloud)
+      return;
+    const auto take = [&](pcl::index_t i) {
+      const PointT& p = (*cloud)[static_cast<std::size_t>(i)];
+      if (!pcl::isFinite(p))
+        return;
+      xyz_.insert(xyz_.end(), {p.x, p.y, p.z});
+      rows_.push_back(i);
+    };
+    if (indices)
+      for (pcl::index_t i : *indices)
+        take(i);
+    else
+      for (std::size_t i = 0; i < cloud->size(); ++i)
+        take(static_cast<pcl::index_t>(i));
+    tree_ = std::make_unique<Tree>(3, points_, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  }
+
+  /// The \a k nearest finite points to \a point (fewer when the cloud has fewer).
+  int nearestKSearch(const PointT& point, int k, pcl::Indices& k_indices,
+                     std::vector<float>& k_sqr_distances) const override {
+    k_indices.clear();
+    k_sqr_distances.clear();
+    if (!tree_ || k <= 0 || rows_.empty() || !pcl::isFinite(point))
+      return 0;
+    const auto want = std::min<std::size_t>(static_cast<std::size_t>(k), rows_.size());
+    std::vector<std::uint32_t> rows(want);
+    k_sqr_distances.resize(want);
+    const float query[3] = {point.x, point.y, point.z};
+    StableKnn result(want);
+    result.init(rows.data(), k_sqr_distances.data());
+    tree_->findNeighbors(result, query, nanoflann::SearchParams());
+    const std::size_t found = result.size();
+    k_sqr_distances.resize(found);
+    k_indices.resize(found);
+    for (std::size_t j = 0; j < found; ++j)
+      k_indices[j] = rows_[rows[j]];
+    return static_cast<int>(found);
+  }
+
+  /// The finite points within \a radius of \a point; with \a max_nn > 0 the nearest \a max_nn of
+  /// them.
+  int radiusSearch(const PointT& point, double radius, pcl::Indices& k_indices,
+                   std::vector<float>& k_sqr_distances, unsigned int max_nn = 0) const override {
+    k_indices.clear();
+    k_sqr_distances.clear();
+    if (!tree_ || rows_.empty() || !pcl::isFinite(point) || !(radius >= 0.0))
+      return 0;
+    std::vector<std::pair<std::uint32_t, float>> found;
+    const float query[3] = {point.x, point.y, point.z};
+    nanoflann::SearchParams params;
+    params.sorted = false;
+    tree_->radiusSearch(query, static_cast<float>(radius * radius), found, params);
+    // The tree's rows follow the cloud's order: ordering rows orders cloud indices.
+    const auto nearer = [](const std::pair<std::uint32_t, float>& a,
+                           const std::pair<std::uint32_t, float>& b) {
+      return a.second < b.second || (a.second == b.second && a.first < b.first);
+    };
+    if (max_nn > 0 && found.size() > max_nn) {
+      std::partial_sort(found.begin(), found.begin() + max_nn, found.end(), nearer);
+      found.resize(max_nn);
+    } else {
+      std::sort(found.begin(), found.end(), nearer);
+    }
+    k_indices.resize(found.size());
+    k_sqr_distances.resize(found.size());
+    for (std::size_t j = 0; j < found.size(); ++j) {
+      k_indices[j] = rows_[found[j].first];
+      k_sqr_distances[j] = found[j].second;
+    }
+    return static_cast<int>(found.size());
+  }
+
+ private:
+  /// nanoflann's k-nearest result set, which takes a point only when it is strictly nearer than
+  /// the k-th so far: at the k-th distance the point found first would stay, whichever the tree
+  /// visits first. Reporting the k-th distance one float step further lets an equally distant
+  /// point in, and NANOFLANN_FIRST_MATCH orders equal distances by index: the k kept are the k
+  /// least by (distance, index), whatever the tree's layout.
+  class StableKnn : public nanoflann::KNNResultSet<float, std::uint32_t> {
+   public:
+    using nanoflann::KNNResultSet<float, std::uint32_t>::KNNResultSet;
+    float worstDist() const {
+      return std::nextafter(nanoflann::KNNResultSet<float, std::uint32_t>::worstDist(),
+                            std::numeric_limits<float>::infinity());
+    }
+  };
+
+  /// nanoflann's view of the packed coordinates.
+  struct Points {
+    const std::vector<float>* xyz;
+    std::size_t kdtree_get_point_count() const { return xyz->size() / 3; }
+    float kdtree_get_pt(std::size_t i, std::size_t dim) const { return (*xyz)[3 * i + dim]; }
+    template <class Box>
+    bool kdtree_get_bbox(Box&) const {
+      return false;
+    }
+  };
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Points>,
+                                                   Points, 3, std::uint32_t>;
+
+  std::vector<float> xyz_;          ///< the finite points, x y z after one another
+  std::vector<pcl::index_t> rows_;  ///< each tree row's cloud index
+  Points points_{&xyz_};
+  std::unique_ptr<Tree> tree_;
+};
+
+}  // namespace slipfit
