@@ -89,7 +89,8 @@ class OrientedNormalEstimation : public pcl::PCLBase<PointInT> {
   void setNeighborhoods(std::shared_ptr<const Neighborhoods> neighborhoods) {
     neighborhoods_ = std::move(neighborhoods);
   }
-  /// Search structure for k/radius neighborhoods when none are given (default: a new kd-tree).
+  /// Search structure for k/radius neighborhoods when none are given (default: a new
+  /// NanoflannSearch, a kd-tree).
   void setSearchMethod(const SearchPtr& search) { search_ = search; }
   /// Reference normals for NormalOrientation::reference, one column per *cloud* point.
   void setReferenceNormals(std::shared_ptr<const Eigen::Matrix3Xf> reference) {
