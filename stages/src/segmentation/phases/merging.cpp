@@ -68,12 +68,11 @@ bool acceptsUnion(const SegmentationState& s, std::size_t a, std::size_t b, cons
   return fit.rms_distance <= limit;
 }
 
-/// A fit of two regions together, whether the merge accepts it (acceptsUnion), and whether its
-/// type is the one fitBest chooses for the union.
+/// A fit of two regions together (of the type fitBest chooses for the union) and whether the
+/// merge accepts it (acceptsUnion).
 struct UnionTrial {
   FitResult fit;
   bool accepted = false;
-  bool chosen = false;
 };
 
 /// The fit of regions a and b together, judged, or nullopt when the larger (T::dominates × the
@@ -113,11 +112,11 @@ std::optional<UnionTrial> tryMerge(const SegmentationState& s, std::size_t a, st
     if (near.ok() && near.rms_distance <= (1.0 + kAdequacyMargin) * s.fits[big].rms_distance &&
         acceptsUnion(s, a, b, near, settled) &&
         !grower.simplerTypeIsAdequate(near.type, near.rms_distance, both))
-      return UnionTrial{std::move(near), true, true};
+      return UnionTrial{std::move(near), true};
   }
   FitResult best = grower.fitBest(both);
   const bool accepted = acceptsUnion(s, a, b, best, settled);
-  return UnionTrial{std::move(best), accepted, true};
+  return UnionTrial{std::move(best), accepted};
 }
 
 /// Sets \a chosen for each region that dominates at least two of its neighbors (\a touching) and
@@ -196,7 +195,7 @@ void mergeAdjacent(SegmentationState& s, bool settled) {
       ++version[a];
       s.moveInto(b, a);
       s.fits[a] = std::move(trial->fit);
-      chosen[a] = trial->chosen ? 1 : 0;
+      chosen[a] = 1;
       ++s.result.merges;
       merged = true;
     }
