@@ -80,7 +80,8 @@ class NanoflannSearch : public pcl::search::Search<PointT> {
     if (!tree_ || k <= 0 || rows_.empty() || !pcl::isFinite(point))
       return 0;
     const auto want = std::min<std::size_t>(static_cast<std::size_t>(k), rows_.size());
-    std::vector<std::uint32_t> rows(want);
+    thread_local std::vector<std::uint32_t> rows;  // one buffer per thread, not one per query
+    rows.resize(want);
     k_sqr_distances.resize(want);
     const float query[3] = {point.x, point.y, point.z};
     StableKnn result(want);
@@ -102,7 +103,8 @@ class NanoflannSearch : public pcl::search::Search<PointT> {
     k_sqr_distances.clear();
     if (!tree_ || rows_.empty() || !pcl::isFinite(point) || !(radius >= 0.0))
       return 0;
-    std::vector<std::pair<std::uint32_t, float>> found;
+    thread_local std::vector<std::pair<std::uint32_t, float>> found;
+    found.clear();
     const float query[3] = {point.x, point.y, point.z};
     nanoflann::SearchParams params;
     params.sorted = false;
