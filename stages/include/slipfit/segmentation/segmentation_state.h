@@ -37,6 +37,9 @@ struct SegmentationState {
   std::optional<RegionGrower> grower;  ///< per-point tolerances, fits, growth
   double edge_margin = 0.0;  ///< distances within this are a tie (no measurement tells), units
   double spacing = 0.0;      ///< the median nearest-neighbour distance, units
+  /// Each point's noise σᵢ (units): the local estimate where the cloud is a sensor's (noisy, or
+  /// depth on levels), else the cloud's σ̂. Empty when the distance tolerance was given.
+  std::vector<double> noise;
 
   // ---- the regions ----------------------------------------------------------------------------
   /// Tolerances, counters and the point labels (segments are filled by finalize).

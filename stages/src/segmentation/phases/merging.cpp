@@ -48,13 +48,46 @@ bool unionIsSimpler(const SegmentationState& s, std::size_t a, std::size_t b,
                             parameterCount(s.fits[smaller].type));
 }
 
+/// Whether \a fit explains regions a and b together as well as their noise allows: its RMS
+/// distance within fitBest's margin of adequacy (kAdequacyMargin) of the regions' noise level.
+/// Each region's noise is the mean σᵢ² of its points (SegmentationState::noise) or its own mean
+/// squared distance to its primitive where that is lower: a region its model explains better
+/// than σ̂ says is evidence that σ̂ is not its noise (a sparse CAD part reads its curvature as
+/// σ̂). The data then cannot tell the two regions apart, and the simpler model — one primitive —
+/// holds: strips of a narrow cylinder grown as planes and cylinders, or the halves of a sphere,
+/// that the crease rule and BIC keep apart on a depth camera's data, whose rounding to levels is
+/// correlated along the surface and not the independent noise BIC assumes. Not when one region
+/// is T::dominates times the other: so few points move the union's RMS too little to tell, and
+/// the rules below judge such unions (on a fillet at σ = r/20 the fillet's fragments went to the
+/// planes).
+bool explainsWithinNoise(const SegmentationState& s, std::size_t a, std::size_t b,
+                         const FitResult& fit) {
+  if (s.noise.empty())
+    return false;
+  const std::size_t na = s.regions[a].size(), nb = s.regions[b].size();
+  if (na >= T::dominates * nb || nb >= T::dominates * na)
+    return false;
+  const auto level = [&](std::size_t r) {
+    double sum = 0.0;
+    for (int i : s.regions[r])
+      sum += s.noise[static_cast<std::size_t>(i)] * s.noise[static_cast<std::size_t>(i)];
+    const double own = s.fits[r].rms_distance;
+    return std::min(sum, static_cast<double>(s.regions[r].size()) * own * own);
+  };
+  const double count = static_cast<double>(na + nb);
+  const double noise = std::sqrt((level(a) + level(b)) / count);
+  return fit.rms_distance <= (1.0 + kAdequacyMargin) * noise;
+}
+
 /// Whether the merge accepts \a fit as the primitive of regions a and b together: its RMS distance
 /// at most merge_factor × the larger of the two regions' (two planes at a crease: below both),
-/// or, \a settled, unionIsSimpler.
+/// or, \a settled, unionIsSimpler; or within their noise (explainsWithinNoise).
 bool acceptsUnion(const SegmentationState& s, std::size_t a, std::size_t b, const FitResult& fit,
                   bool settled) {
   if (!fit.ok())
     return false;
+  if (explainsWithinNoise(s, a, b, fit))
+    return true;
   if (settled)
     return unionIsSimpler(s, a, b, fit);
   // Planes meeting at a crease merge only when one curved primitive explains their union
