@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 namespace slipfit::testing {
 namespace {
@@ -67,6 +68,46 @@ TEST(Cli, DemoConfigRunsAndWritesOrientedNormals) {
   EXPECT_GE(ground_up, ground * 995 / 1000);
   EXPECT_GT(sphere, 7000u);
   EXPECT_EQ(sphere_out, sphere);
+}
+
+// Issue 38: orientation 'sensor' (the demo config's) follows PCL's convention, normals facing the
+// input's sensor_origin_ (a PCD's VIEWPOINT); an input without a sensor pose falls back to the
+// viewpoint, and the report says which. A 21 × 21 grid on the plane z = 0 with the sensor below
+// it at (0.3, −0.2, −3): every normal is −z; the same points as a PLY face the viewpoint above.
+TEST(Cli, SensorOrientationFacesThePcdsViewpointElseTheViewpoint) {
+  const std::string dir = scratchDir("sensor_orientation");
+  fs::create_directories(dir);
+  std::string rows;
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j <= 20; ++j)
+      rows += std::to_string(0.05 * i) + " " + std::to_string(0.05 * j + 0.001 * (i % 3)) + " 0\n";
+  {
+    std::ofstream pcd(dir + "/plane.pcd");
+    pcd << "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 441\nHEIGHT "
+           "1\nVIEWPOINT 0.3 -0.2 -3 1 0 0 0\nPOINTS 441\nDATA ascii\n"
+        << rows;
+    std::ofstream ply(dir + "/plane.ply");
+    ply << "ply\nformat ascii 1.0\nelement vertex 441\nproperty float x\nproperty float "
+           "y\nproperty float z\nend_header\n"
+        << rows;
+  }
+  for (const std::string ext : {"pcd", "ply"}) {
+    const std::string out = dir + "/out_" + ext;
+    const CliResult r = runSlipfit("run configs/normals_demo.yaml --set input.path=" + dir +
+                                   "/plane." + ext +
+                                   " --set normals.orientation=sensor --set output.dir=" + out);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_THAT(r.out, HasSubstr(ext == "pcd"
+                                     ? "orientation sensor (towards the input's sensor at (0.3, "
+                                       "-0.2, -3))"
+                                     : "orientation sensor (the input has no sensor pose: "
+                                       "towards the viewpoint (0, 0, 10))"));
+    const auto data = pipeline::readCloud(out + "/cloud.ply", pipeline::NanPolicy::error);
+    ASSERT_EQ(data.size(), 441u);
+    const float sign = ext == "pcd" ? -1.0f : 1.0f;
+    for (const auto& p : data.cloud->points)
+      ASSERT_GT(sign * p.normal_z, 0.999f) << ext << ": the point " << p.getVector3fMap().transpose();
+  }
 }
 
 TEST(Cli, SameOutputForSameInputAndAnyThreadCount) {

@@ -61,8 +61,14 @@ TEST_P(RealScanCli, DemoRunsWithoutNanAndItsLargestPlaneIsPclsRansacPlane) {
   // segments.ply: every value finite (the NaN points of the organized scan were dropped).
   const pipeline::PointData segments =
       pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
-  for (const auto& p : *segments.cloud)
+  // Issue 38: the demo's normals face the sensor (orientation 'sensor', PCL's convention); both
+  // scans are organized frames of a camera at the origin.
+  std::size_t facing = 0;
+  for (const auto& p : *segments.cloud) {
     ASSERT_TRUE(p.getNormalVector3fMap().allFinite()) << "a NaN normal in segments.ply";
+    facing += p.getNormalVector3fMap().dot(-p.getVector3fMap()) >= 0.0f ? 1 : 0;
+  }
+  EXPECT_EQ(facing, segments.size()) << "normals facing the camera at the origin";
   const YAML::Node report = YAML::LoadFile(out + "/primitives.yaml");
   EXPECT_TRUE(allFinite(report)) << "a NaN or inf in primitives.yaml";
 

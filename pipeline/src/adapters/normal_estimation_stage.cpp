@@ -45,6 +45,14 @@ class NormalEstimationStage : public Stage {
     }
     NormalParameters p = p_;
     p.threads = context.threads;
+    // 'sensor': PCL's convention, towards the cloud's sensor_origin_, which the input's sensor
+    // pose sets; an input without one (a PLY, an unorganized PCD at the identity) falls back to
+    // the viewpoint, and the report says which.
+    const bool from_sensor = p.orientation == NormalOrientation::sensor && data.sensor;
+    if (p.orientation == NormalOrientation::sensor && !from_sensor)
+      p.orientation = NormalOrientation::viewpoint;
+    if (from_sensor)
+      data.cloud->sensor_origin_ << data.sensor->origin.cast<float>(), 0.0f;
     OrientedNormalEstimation<pcl::PointNormal, pcl::Normal> estimation;
     estimation.setParameters(p);
     estimation.setInputCloud(data.cloud);
@@ -88,6 +96,15 @@ class NormalEstimationStage : public Stage {
                                   : "a kNN search")
                    << ", " << st.failed << " failed" << (st.failed ? " (dropped)" : "")
                    << ", orientation " << orientationName();
+    if (from_sensor) {
+      const Eigen::Vector3d at = data.sensor->origin + data.frame.shift;
+      context.report << " (towards the input's sensor at (" << at.x() << ", " << at.y() << ", "
+                     << at.z() << "))";
+    } else if (p_.orientation == NormalOrientation::sensor) {
+      const Eigen::Vector3f at = p.viewpoint.value_or(Eigen::Vector3f::Zero());
+      context.report << " (the input has no sensor pose: towards the viewpoint (" << at.x() << ", "
+                     << at.y() << ", " << at.z() << "))";
+    }
     if (p.orientation == NormalOrientation::reference)
       context.report << " (" << st.flipped << " flipped)";
     if (p.orientation == NormalOrientation::consistent)

@@ -55,6 +55,25 @@ TEST(OrientedNormalEstimation, SphereWithinOneDegree) {
   EXPECT_LT(testing::maxAngleDeg(estimated(out), exact(*cloud), false), 1.0);
 }
 
+// PCL's convention: NormalOrientation::sensor faces the cloud's sensor_origin_ (what a PCD's
+// VIEWPOINT sets). A sphere seen from a sensor inside it, off its centre: every normal points
+// inward. The default viewpoint, the origin, lies outside at d = |centre| = √38 from the centre:
+// it turns outward the cap it sees, the share (1 − r/d)/2 = 0.338 of the sphere's area.
+TEST(OrientedNormalEstimation, SensorOrientationFacesTheCloudsSensorOrigin) {
+  const Eigen::Vector3f centre(3, -2, 5);
+  auto cloud = std::make_shared<Cloud>(testing::sampleSphere(20000, centre, 2.0f, 4));
+  cloud->sensor_origin_ << 3.5f, -1.5f, 4.0f, 0.0f;
+  NormalParameters p;
+  p.orientation = NormalOrientation::sensor;
+  const Eigen::Matrix3Xf inward = -exact(*cloud);
+  EXPECT_EQ(outward(estimated(estimate(cloud, p)), inward), cloud->size());
+  p.orientation = NormalOrientation::viewpoint;
+  const double seen = (1.0 - 2.0 / std::sqrt(38.0)) / 2.0;
+  EXPECT_NEAR(static_cast<double>(outward(estimated(estimate(cloud, p)), inward)) /
+                  static_cast<double>(cloud->size()),
+              1.0 - seen, 0.01);
+}
+
 TEST(OrientedNormalEstimation, CylinderWithinOneDegree) {
   auto cloud = std::make_shared<Cloud>(
       testing::sampleCylinder(100000, Eigen::Vector3f(1, 1, -3), 1.0f, 2.0f, 2));

@@ -45,12 +45,15 @@ struct NormalParameters {
           parameter("orientation",
                     "viewpoint: normals face the viewpoint; reference: keep the sign of the "
                     "input's own normals; consistent: minimum-spanning-tree propagation (Hoppe et "
-                    "al. 1992), outward on closed surfaces."),
+                    "al. 1992), outward on closed surfaces; sensor: normals face the input's "
+                    "sensor (a PCD's VIEWPOINT or an organized cloud's camera, PCL's "
+                    "sensor_origin_), and the viewpoint when the input has no sensor pose."),
           kNormalOrientationNames);
     visit(self.viewpoint,
           parameter("viewpoint",
-                    "Viewpoint for 'viewpoint' (unset: the origin) and, when set, the seed "
-                    "direction for 'consistent' (unset: outward from the centroid).")
+                    "Viewpoint for 'viewpoint' and for 'sensor' on an input without a sensor "
+                    "pose (unset: the origin) and, when set, the seed direction for 'consistent' "
+                    "(unset: outward from the centroid).")
               .in("cloud units"));
   }
 

@@ -19,13 +19,17 @@ namespace slipfit {
 enum class NormalOrientation {
   viewpoint,  ///< each normal faces the viewpoint: (v − p)·n ≥ 0
   reference,  ///< each normal agrees in sign with a reference normal (e.g. the input's own)
-  consistent  ///< neighbors agree, propagated over a minimum spanning tree of the kNN graph
+  consistent,  ///< neighbors agree, propagated over a minimum spanning tree of the kNN graph
+  /// each normal faces the input cloud's sensor_origin_ (PCL's convention: a PCD's VIEWPOINT sets
+  /// it, and pcl::NormalEstimation orients towards it unless given a viewpoint)
+  sensor
 };
 
-constexpr std::array<std::pair<NormalOrientation, std::string_view>, 3> kNormalOrientationNames{{
+constexpr std::array<std::pair<NormalOrientation, std::string_view>, 4> kNormalOrientationNames{{
     {NormalOrientation::viewpoint, "viewpoint"},
     {NormalOrientation::reference, "reference"},
     {NormalOrientation::consistent, "consistent"},
+    {NormalOrientation::sensor, "sensor"},
 }};
 
 /// Flips normals so that they face \a viewpoint. Returns how many were flipped.

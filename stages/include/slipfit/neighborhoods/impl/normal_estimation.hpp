@@ -107,7 +107,9 @@ void OrientedNormalEstimation<PointInT, PointOutT>::compute(pcl::PointCloud<Poin
     else
       ne.setKSearch(par.k);
   }
-  const Eigen::Vector3f vp = par.viewpoint.value_or(Eigen::Vector3f::Zero());
+  const Eigen::Vector3f vp = par.orientation == NormalOrientation::sensor
+                                 ? Eigen::Vector3f(input_->sensor_origin_.template head<3>())
+                                 : par.viewpoint.value_or(Eigen::Vector3f::Zero());
   ne.setViewPoint(vp.x(), vp.y(), vp.z());
   ne.compute(output);
   if (output.size() != indices_->size()) {
