@@ -94,6 +94,17 @@ TEST(FilterStages, CropKeepsExactlyThePointsWithinItsLimits) {
   EXPECT_EQ(box.data.size(), outside);
   for (const auto& p : box.data.cloud->points)
     EXPECT_FALSE(p.x <= 0.5f && p.y <= 0.5f);
+  // Issue 38's messages: a one-sided limit says its side (it printed "z in [-3.40282e+38, 0.1]"),
+  // and a box corner keeps its digits (it printed "[500000 5.4e+06 0]").
+  const Filtered below = runFilter("crop_below", points, "[{type: crop, field: z, max: 0.1}]");
+  ASSERT_EQ(below.run.code, 0) << below.run.err;
+  EXPECT_THAT(below.run.out, HasSubstr("(kept z <= 0.1)"));
+  const Filtered far = runFilter(
+      "crop_far", points,
+      "[{type: crop, box_min: [-5400000, -1, -1], box_max: [500000.25, 1, 1]}]");
+  ASSERT_EQ(far.run.code, 0) << far.run.err;
+  EXPECT_THAT(far.run.out,
+              HasSubstr("(kept inside the box (-5400000, -1, -1) – (500000.25, 1, 1))"));
 }
 
 TEST(FilterStages, VoxelGridKeepsOnePointPerOccupiedVoxel) {

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 
@@ -61,6 +62,17 @@ void CropParameters::validate() const {
     rejectCrop("give field with min/max, or box_min and box_max");
 }
 
+namespace {
+
+/// \a p as "(x, y, z)" with every digit a georeferenced coordinate needs (5400000, not 5.4e+06).
+std::string corner(const Eigen::Vector3d& p) {
+  std::ostringstream s;
+  s << std::setprecision(12) << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return s.str();
+}
+
+}  // namespace
+
 FilterSelection crop(const pcl::PointCloud<pcl::PointNormal>::ConstPtr& cloud,
                      const CropParameters& p, const Eigen::Vector3d& shift) {
   p.validate();
@@ -78,7 +90,14 @@ FilterSelection crop(const pcl::PointCloud<pcl::PointNormal>::ConstPtr& cloud,
     filter.setFilterLimits(static_cast<float>(lo - t), static_cast<float>(hi - t));
     filter.setNegative(p.negative && !p.box_min);
     filter.filter(out.kept);
-    why << name << " in [" << lo << ", " << hi << "]";
+    // A one-sided limit says which side, not the float range's end (-3.40282e+38).
+    why << std::setprecision(12);
+    if (p.min && p.max)
+      why << name << " in [" << lo << ", " << hi << "]";
+    else if (p.min)
+      why << name << " >= " << lo;
+    else
+      why << name << " <= " << hi;
   }
   if (p.box_min) {
     pcl::CropBox<pcl::PointNormal> box;
@@ -91,8 +110,8 @@ FilterSelection crop(const pcl::PointCloud<pcl::PointNormal>::ConstPtr& cloud,
     box.setMax(Eigen::Vector4f(high.x(), high.y(), high.z(), 1.0f));
     box.setNegative(p.negative && !pass);
     box.filter(out.kept);
-    why << (pass ? ", " : "") << "inside the box [" << p.box_min->transpose() << "] – ["
-        << p.box_max->transpose() << "]";
+    why << (pass ? ", " : "") << "inside the box " << corner(*p.box_min) << " – "
+        << corner(*p.box_max);
   }
   if (p.negative && pass && p.box_min)
     out.kept = complement(out.kept, cloud->size());
