@@ -93,20 +93,21 @@ TEST(Cli, SensorOrientationFacesThePcdsViewpointElseTheViewpoint) {
   }
   for (const std::string ext : {"pcd", "ply"}) {
     const std::string out = dir + "/out_" + ext;
-    const CliResult r = runSlipfit("run configs/normals_demo.yaml --set input.path=" + dir +
-                                   "/plane." + ext +
-                                   " --set normals.orientation=sensor --set output.dir=" + out);
+    const CliResult r =
+        runSlipfit("run configs/normals_demo.yaml --set input.path=" + dir + "/plane." + ext +
+                   " --set normals.orientation=sensor --set output.dir=" + out);
     ASSERT_EQ(r.code, 0) << r.err;
-    EXPECT_THAT(r.out, HasSubstr(ext == "pcd"
-                                     ? "orientation sensor (towards the input's sensor at (0.3, "
-                                       "-0.2, -3))"
-                                     : "orientation sensor (the input has no sensor pose: "
-                                       "towards the viewpoint (0, 0, 10))"));
+    EXPECT_THAT(r.out,
+                HasSubstr(ext == "pcd" ? "orientation sensor (towards the input's sensor at (0.3, "
+                                         "-0.2, -3))"
+                                       : "orientation sensor (the input has no sensor pose: "
+                                         "towards the viewpoint (0, 0, 10))"));
     const auto data = pipeline::readCloud(out + "/cloud.ply", pipeline::NanPolicy::error);
     ASSERT_EQ(data.size(), 441u);
     const float sign = ext == "pcd" ? -1.0f : 1.0f;
     for (const auto& p : data.cloud->points)
-      ASSERT_GT(sign * p.normal_z, 0.999f) << ext << ": the point " << p.getVector3fMap().transpose();
+      ASSERT_GT(sign * p.normal_z, 0.999f)
+          << ext << ": the point " << p.getVector3fMap().transpose();
   }
 }
 

@@ -99,9 +99,9 @@ TEST(FilterStages, CropKeepsExactlyThePointsWithinItsLimits) {
   const Filtered below = runFilter("crop_below", points, "[{type: crop, field: z, max: 0.1}]");
   ASSERT_EQ(below.run.code, 0) << below.run.err;
   EXPECT_THAT(below.run.out, HasSubstr("(kept z <= 0.1)"));
-  const Filtered far = runFilter(
-      "crop_far", points,
-      "[{type: crop, box_min: [-5400000, -1, -1], box_max: [500000.25, 1, 1]}]");
+  const Filtered far =
+      runFilter("crop_far", points,
+                "[{type: crop, box_min: [-5400000, -1, -1], box_max: [500000.25, 1, 1]}]");
   ASSERT_EQ(far.run.code, 0) << far.run.err;
   EXPECT_THAT(far.run.out,
               HasSubstr("(kept inside the box (-5400000, -1, -1) – (500000.25, 1, 1))"));

@@ -28,8 +28,8 @@ TEST(NoiseLevelMerge, PostsOfADepthFrameAreOneCylinderEach) {
                                        Eigen::Vector3d(0, 6, 0)));
   const double where[3][3] = {{-0.35, 0.0, 0.025}, {0.0, 0.25, 0.03}, {0.4, -0.1, 0.04}};
   for (const auto& post : where)
-    scene.pieces.push_back(cylinderSide(Eigen::Vector3d(post[0], post[1], 0),
-                                        Eigen::Vector3d::UnitZ(), post[2], 0.7));
+    scene.pieces.push_back(
+        cylinderSide(Eigen::Vector3d(post[0], post[1], 0), Eigen::Vector3d::UnitZ(), post[2], 0.7));
   scene.focus = Eigen::Vector3d(0, 0, 0.35);
   scene.extent = 3.0;
   RangeSensorParameters sensor;

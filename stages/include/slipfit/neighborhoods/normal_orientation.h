@@ -17,8 +17,8 @@ namespace slipfit {
 
 /// How the sign of estimated normals is chosen.
 enum class NormalOrientation {
-  viewpoint,  ///< each normal faces the viewpoint: (v − p)·n ≥ 0
-  reference,  ///< each normal agrees in sign with a reference normal (e.g. the input's own)
+  viewpoint,   ///< each normal faces the viewpoint: (v − p)·n ≥ 0
+  reference,   ///< each normal agrees in sign with a reference normal (e.g. the input's own)
   consistent,  ///< neighbors agree, propagated over a minimum spanning tree of the kNN graph
   /// each normal faces the input cloud's sensor_origin_ (PCL's convention: a PCD's VIEWPOINT sets
   /// it, and pcl::NormalEstimation orients towards it unless given a viewpoint)
