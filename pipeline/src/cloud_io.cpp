@@ -156,7 +156,8 @@ RowLayout rowLayout(const PointData& data) {
       const std::size_t stride = data.extra.point_step;
       // PCL packs PLY colours into one 32-bit rgb(a) field (0xAARRGGBB, little-endian in
       // memory); viewers want them back as uchar red, green, blue (alpha). A stage that colours
-      // the points (segmentation) takes the names; the input's colours then keep their field.
+      // the points (segmentation) takes the names; the input's colours then keep their packed
+      // field under input_rgb(a), so that PCL and viewers show the stage's colours.
       const bool packed = (f.name == "rgb" || f.name == "rgba") && datatypeBytes(f.datatype) == 4;
       if (packed && !stage_colours) {
         add("red", Field::UINT8, base + 2, stride);
@@ -173,7 +174,7 @@ RowLayout rowLayout(const PointData& data) {
                  (name != f.name && std::any_of(data.extra.fields.begin(), data.extra.fields.end(),
                                                 [&](const auto& g) { return g.name == name; }));
         };
-        std::string name = f.name;
+        std::string name = packed ? "input_" + f.name : f.name;
         while (taken(name))
           name = "input_" + name;
         add(name, f.datatype, base, stride);

@@ -79,6 +79,11 @@ JoinedAcrossTiles& joinedStage(const PipelineConfig& config) {
                       (config.stages.empty() ? "none" : config.stages.back().type) + "'");
   if (!config.output.cloud.empty())
     throw ConfigError(why + "output.cloud is not written by a tiled run; set it to ''");
+  const std::string unjoined = joined->unjoinedOutput();
+  if (!unjoined.empty())
+    throw ConfigError(why + config.stages.back().tag + "." + unjoined +
+                      " is not written by a tiled run (its files are not joined across tiles); "
+                      "leave it unset");
   return *joined;
 }
 

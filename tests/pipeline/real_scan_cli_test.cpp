@@ -3,6 +3,7 @@
 // SACSegmentation is an oracle, the largest plane of the scene (the table) agrees with it within
 // 0.5°. The scans
 // are read from ../shared; the test says so and skips when the folder is absent.
+#include "png_image.h"
 #include "ransac_plane_oracle.h"
 #include "run_cli.h"
 #include "slipfit/pipeline/cloud_io.h"
@@ -15,6 +16,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <string>
 
@@ -34,6 +36,24 @@ std::string scanName(const ::testing::TestParamInfo<Scan>& info) {
 }
 
 class RealScanCli : public ::testing::TestWithParam<Scan> {};
+
+/// Issue 38: the default picture of a scan shows it — the camera looking at the points (not away
+/// from them: a blank picture), framing them (their extent filling the image along one axis, to
+/// 85 %, and at least 40 % of its area: the default view of PCL's plane scan spans 0.54 × 0.90),
+/// and not in one colour (a segmentation shows several segments' colours).
+void expectPictureOfTheScene(const std::string& png, const std::string& what) {
+  const RgbImage image = readPng(png);
+  ASSERT_EQ(image.width, 1024) << what;
+  ASSERT_EQ(image.height, 768) << what;
+  const PictureCoverage p = pictureCoverage(image);
+  std::cout << what << ": the picture's scene covers " << p.covered << " of the image and spans "
+            << p.span_x << " × " << p.span_y << " of it, its largest hue " << p.largest_colour
+            << " of the scene\n";
+  EXPECT_GE(std::max(p.span_x, p.span_y), 0.85) << what;
+  EXPECT_GE(p.span_x * p.span_y, 0.4) << what;
+  EXPECT_GE(p.covered, 0.25) << what;
+  EXPECT_LE(p.largest_colour, 0.9) << what;
+}
 
 bool allFinite(const YAML::Node& node) {
   if (node.IsScalar()) {
@@ -71,6 +91,7 @@ TEST_P(RealScanCli, DemoRunsWithoutNanAndItsLargestPlaneIsPclsRansacPlane) {
   EXPECT_EQ(facing, segments.size()) << "normals facing the camera at the origin";
   const YAML::Node report = YAML::LoadFile(out + "/primitives.yaml");
   EXPECT_TRUE(allFinite(report)) << "a NaN or inf in primitives.yaml";
+  expectPictureOfTheScene(out + "/segments.png", scan.file);
 
   if (scan.threshold == 0.0)
     return;
@@ -124,8 +145,37 @@ TEST_P(RealScanCli, DemoRunsWithoutNanAndItsLargestPlaneIsPclsRansacPlane) {
 // checks the run and the outputs only.
 INSTANTIATE_TEST_SUITE_P(Scans, RealScanCli,
                          ::testing::Values(Scan{"milk_cartoon_all_small_clorox.pcd", 0.01},
-                                           Scan{"office1.pcd", 0.0}),
+                                           Scan{"office1.pcd", 0.0},
+                                           Scan{"table_scene_mug_stereo_textured.pcd", 0.0}),
                          scanName);
+
+// Issue 38: the default picture of PCL's plane scan (no sensor pose: the default view, framing
+// the cloud) and of a generated depth frame (the scan stage's sensor pose: the view from the
+// camera) shows the scene. The frame is segmented with the demo's stages after scan_sampling.
+TEST(ScanPictures, APlaneScanAndAGeneratedDepthFrameAreSeen) {
+  const std::string plane = std::string(kSharedDataDir) + "/pcl/sac_plane_test.pcd";
+  if (std::filesystem::exists(plane)) {
+    const std::string out = scratchDir("picture_sac_plane");
+    const CliResult r = runSlipfit("run configs/demo.yaml --quiet --set input.path=" + plane +
+                                   " --set output.dir=" + out);
+    ASSERT_EQ(r.code, 0) << r.err;
+    expectPictureOfTheScene(out + "/segments.png", "sac_plane_test.pcd");
+  }
+  const std::string config = scratchDir("picture_frame") + "_config.yaml";
+  std::ofstream(config)
+      << "stages:\n"
+         "  - {type: scan_sampling, tag: scan, sensor: depth_camera, scene: tabletop}\n"
+         "  - {type: subsample, tag: sample, mode: voxel, points: 400000}\n"
+         "  - {type: neighborhood_selection, tag: neighborhoods, mode: knn, k: 12}\n"
+         "  - {type: normal_estimation, tag: normals, orientation: sensor}\n"
+         "  - {type: slippage_classification, tag: slippage, mode: local}\n"
+         "  - {type: segmentation, tag: segments, render: segments.png}\n"
+         "seed: 1\n";
+  const std::string out = scratchDir("picture_frame");
+  const CliResult r = runSlipfit("run " + config + " --quiet --set output.dir=" + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  expectPictureOfTheScene(out + "/segments.png", "generated tabletop frame");
+}
 
 // Issue 14: `fit_primitive` (primitive: auto, the whole-scan default robust: ransac) on a plane
 // scan with outliers returns the plane, PCL's own test tolerance holding: coefficients within 0.1

@@ -9,6 +9,12 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
 namespace slipfit::testing {
 namespace {
 
@@ -40,7 +46,24 @@ TEST(TorusCli, ConfigWritesPointsAndMeshes) {
     for (const auto e : mesh.edges())
       ASSERT_FALSE(mesh.is_boundary(e)) << name;
   }
-  EXPECT_THAT(slurp(out + "/torus_mesh.off").substr(0, 5), HasSubstr("NOFF"));
+  const std::string off = slurp(out + "/torus_mesh.off");
+  EXPECT_THAT(off.substr(0, 5), HasSubstr("NOFF"));
+  // The OFF's text reads back to the sampler's doubles: every vertex on the torus to within the
+  // rounding of |p|^2 terms of size (R + r)^2 = 1.69 (a few 1e-16), where OpenMesh's float
+  // writer gave 3e-8 (and 6 digits 6e-6).
+  std::istringstream text(off);
+  std::string magic;
+  std::size_t vertices = 0, faces = 0, edges = 0;
+  text >> magic >> vertices >> faces >> edges;
+  ASSERT_EQ(vertices, 32u * 64);
+  double worst = 0.0;
+  for (std::size_t v = 0; v < vertices; ++v) {
+    Eigen::Vector3d p, n;
+    text >> p.x() >> p.y() >> p.z() >> n.x() >> n.y() >> n.z();
+    ASSERT_TRUE(text) << "vertex " << v;
+    worst = std::max(worst, std::abs(torusImplicit(torus, p)));
+  }
+  EXPECT_LE(worst, 1e-13);
   SurfaceMesh naive;
   ASSERT_TRUE(OpenMesh::IO::read_mesh(naive, out + "/torus_mesh_naive.off"));
   EXPECT_EQ(naive.n_vertices(), 4u * 17 * 33);

@@ -9,6 +9,7 @@
 #include "slipfit/pipeline/primitives_report.h"
 #include "slipfit/pipeline/progress.h"
 #include "slipfit/pipeline/tile_roles.h"
+#include "slipfit/render/legend.h"
 #include "slipfit/render/segment_palette.h"
 #include "slipfit/render/splat_renderer.h"
 #include "slipfit/segmentation/segmentation.h"
@@ -37,6 +38,11 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
     o.add("segments", segments_,
           "File name of the PLY of every point with label, primitive and red/green/blue.")
         .fileName(".ply");
+    o.add("pcd", pcd_,
+          "File name of a PCD of the same points in PCL's conventions: label as uint32 "
+          "(4294967295: no segment), the segment colour as packed rgb (empty: none).")
+        .allowEmpty()
+        .fileName(".pcd");
     o.add("segment_files", segment_files_, "Also write each segment as segment_<label>.ply.");
     o.add("render", render_, "File name of a PNG picture of the segments (empty: none).")
         .allowEmpty()
@@ -55,12 +61,17 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
 
   std::vector<std::string> outputFiles() const override {
     std::vector<std::string> names = {report_, segments_};
+    if (!pcd_.empty())
+      names.push_back(pcd_);
     if (!render_.empty())
       names.push_back(render_);
     return names;
   }
 
   Files joinedFiles() const override { return {report_, segments_}; }
+  std::string unjoinedOutput() const override {
+    return segment_files_ ? "segment_files" : !pcd_.empty() ? "pcd" : "";
+  }
   std::optional<RenderRequest> picture() const override {
     if (render_.empty())
       return std::nullopt;
@@ -117,7 +128,7 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
     writeReport(result, *data.cloud, data.frame.shift, context);
     writeClouds(data, result, context);
     if (!render_.empty())
-      writeRender(data, context);
+      writeRender(data, result, context);
 
     std::size_t assigned = 0;
     for (const auto& s : result.segments)
@@ -204,12 +215,15 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
     PointData view;
     view.cloud = data.cloud;
     view.frame = data.frame;
+    view.sensor = data.sensor;  // the PCD's VIEWPOINT
     view.has_normals = true;
     view.extra = data.extra;  // the input's own fields (colour, intensity, labels) come along
     for (const char* name : {"label", "primitive", "red", "green", "blue"})
       view.setField(*data.field(name));
     context.outputs->add(segments_,
                          [&](const std::string& path) { writeCloudPly(view, path, true); });
+    if (!pcd_.empty())
+      context.outputs->add(pcd_, [&](const std::string& path) { writeCloudPcd(view, path); });
     if (!segment_files_)
       return;
     for (std::size_t k = 0; k < result.segments.size(); ++k) {
@@ -223,7 +237,8 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
     }
   }
 
-  void writeRender(const PointData& data, RunContext& context) const {
+  void writeRender(const PointData& data, const SegmentationResult& result,
+                   RunContext& context) const {
     const auto n = static_cast<Eigen::Index>(data.size());
     // Views of the cloud's coordinates and normals (a PointNormal is 12 floats): no copies.
     using Strided = Eigen::Map<const Eigen::Matrix3Xf, 0, Eigen::OuterStride<>>;
@@ -243,8 +258,21 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
     if (camera.eye)
       *camera.eye -= data.frame.shift;  // the config's eye is in the input's frame
     if (!render_parameters_.eye && data.sensor)
-      useSensorCamera(camera, data.sensor->origin, data.sensor->orientation, x);
-    const std::vector<std::uint8_t> image = renderSplats(x, rgb, nn, camera);
+      useSensorCamera(camera, data.sensor->origin, data.sensor->orientation, x, -data.frame.shift);
+    std::vector<std::uint8_t> image = renderSplats(x, rgb, nn, camera);
+    if (camera.legend) {
+      std::vector<PrimitiveType> types;
+      std::vector<std::size_t> points;
+      std::size_t assigned = 0;
+      for (const Segment& s : result.segments) {
+        types.push_back(s.fit.type);
+        points.push_back(s.indices.size());
+        assigned += s.indices.size();
+      }
+      drawLegend(image, camera.width, camera.height,
+                 segmentLegend(types, points, data.size() - assigned), legendScale(camera.height),
+                 kLegendRows);
+    }
     context.outputs->add(render_, [&](const std::string& path) {
       detail::writeRgbPng(path, image, camera.width, camera.height);
     });
@@ -252,7 +280,8 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
 
   SegmentationParameters parameters_;
   RenderParameters render_parameters_;
-  std::string report_ = "primitives.yaml", segments_ = "segments.ply", render_ = "segments.png";
+  std::string report_ = "primitives.yaml", segments_ = "segments.ply", render_ = "segments.png",
+              pcd_;
   bool segment_files_ = false;
 };
 

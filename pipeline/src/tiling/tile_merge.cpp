@@ -10,6 +10,7 @@
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/primitives_report.h"
+#include "slipfit/render/legend.h"
 #include "slipfit/render/segment_palette.h"
 #include "slipfit/tiling/segment_joining.h"
 
@@ -350,7 +351,19 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
     RenderParameters camera = render->camera;
     if (camera.eye)
       *camera.eye -= origin;  // the config's eye is in the input's frame
-    const std::vector<std::uint8_t> image = renderSplats(x, rgb, normals, camera);
+    std::vector<std::uint8_t> image = renderSplats(x, rgb, normals, camera);
+    if (camera.legend) {
+      std::vector<PrimitiveType> types;
+      std::vector<std::size_t> points;
+      for (const Joined& j : joined) {
+        types.push_back(j.fit.type);
+        points.push_back(static_cast<std::size_t>(j.core_points));
+      }
+      drawLegend(
+          image, camera.width, camera.height,
+          segmentLegend(types, points, static_cast<std::size_t>(summary.points - summary.assigned)),
+          legendScale(camera.height), kLegendRows);
+    }
     outputs.add(render->name, [&](const std::string& path) {
       detail::writeRgbPng(path, image, camera.width, camera.height);
     });

@@ -27,24 +27,53 @@ void RenderParameters::validate() const {
     throw InvalidParameterError("render: splat_radius must be in (0, 64] pixels");
 }
 
-void useSensorCamera(RenderParameters& parameters, const Eigen::Vector3d& origin,
-                     const Eigen::Quaterniond& orientation,
-                     const Eigen::Ref<const Eigen::Matrix3Xf>& points) {
-  const Eigen::Matrix3d r = orientation.normalized().toRotationMatrix();
-  const Eigen::Vector3d axis = r.col(2);
+namespace {
+
+/// A camera at \a eye with the axes of \a r (columns: image right, image down, ahead).
+struct SensorView {
+  Eigen::Vector3d eye;
+  Eigen::Matrix3d r;
+};
+
+/// The depths along the view's axis of the \a points in front of it.
+std::vector<double> depthsAhead(const SensorView& view,
+                                const Eigen::Ref<const Eigen::Matrix3Xf>& points) {
   std::vector<double> depth;
-  depth.reserve(static_cast<std::size_t>(points.cols()));
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
-    const double z = (points.col(i).cast<double>() - origin).dot(axis);
+    const double z = (points.col(i).cast<double>() - view.eye).dot(view.r.col(2));
     if (std::isfinite(z) && z > 0.0)
       depth.push_back(z);
+  }
+  return depth;
+}
+
+}  // namespace
+
+void useSensorCamera(RenderParameters& parameters, const Eigen::Vector3d& origin,
+                     const Eigen::Quaterniond& orientation,
+                     const Eigen::Ref<const Eigen::Matrix3Xf>& points,
+                     const Eigen::Vector3d& frame_origin) {
+  // The pose read as the sensor's place among the points, and the points read as the sensor's own
+  // frame (PCL's viewer applies the pose to the points and the camera alike, so the sensor then
+  // looks along the points' +z from their origin): the one that sees more of them.
+  const SensorView posed{origin, orientation.normalized().toRotationMatrix()};
+  const SensorView own{frame_origin, Eigen::Matrix3d::Identity()};
+  std::vector<double> depth = depthsAhead(posed, points);
+  const SensorView* view = &posed;
+  if (2 * depth.size() < static_cast<std::size_t>(points.cols()) &&
+      (!posed.r.isIdentity(1e-12) || origin != frame_origin)) {
+    std::vector<double> other = depthsAhead(own, points);
+    if (other.size() > depth.size()) {
+      depth = std::move(other);
+      view = &own;
+    }
   }
   double median = 1.0;
   if (!depth.empty())
     median = medianInPlace(depth);
-  parameters.eye = origin;
-  parameters.target = origin + median * axis;
-  parameters.up = -r.col(1);
+  parameters.eye = view->eye;
+  parameters.target = view->eye + median * view->r.col(2);
+  parameters.up = -view->r.col(1);
 }
 
 std::vector<std::uint8_t> renderSplats(
@@ -77,13 +106,42 @@ std::vector<std::uint8_t> renderSplats(
   const double distance = 0.8 * radius / std::sin(std::atan(tan_half * std::min(1.0, aspect)));
   const Eigen::Vector3d eye =
       parameters.eye.value_or(target + distance * parameters.view_direction.normalized());
-  const Eigen::Vector3d forward = (target - eye).normalized();
-  Eigen::Vector3d right = forward.cross(parameters.up);
-  if (right.norm() < 1e-9)
-    right = forward.unitOrthogonal();
-  right.normalize();
-  const Eigen::Vector3d up = right.cross(forward);
-  const double focal = h / (2 * tan_half);  // pixels
+  Eigen::Vector3d forward = (target - eye).normalized();
+  const auto axes = [&](Eigen::Vector3d& right, Eigen::Vector3d& up) {
+    right = forward.cross(parameters.up);
+    if (right.norm() < 1e-9)
+      right = forward.unitOrthogonal();
+    right.normalize();
+    up = right.cross(forward);
+  };
+  Eigen::Vector3d right, up;
+  axes(right, up);
+  double focal = h / (2 * tan_half);  // pixels
+  if (parameters.frame_points) {
+    // The points frame the picture: the view turns to the middle of their directions and the
+    // field of view narrows to them (from the 1st to the 99th percentile of the directions
+    // across and up, 4 % to spare), never widening past the configured one.
+    std::vector<double> across, upward;
+    for (Eigen::Index i = 0; i < points.cols(); ++i) {
+      const Eigen::Vector3d d = points.col(i).cast<double>() - eye;
+      const double z = d.dot(forward);
+      if (d.allFinite() && z > 0.0) {
+        across.push_back(d.dot(right) / z);
+        upward.push_back(d.dot(up) / z);
+      }
+    }
+    if (across.size() >= 2) {
+      const double u0 = quantile(across, 0.01), u1 = quantile(across, 0.99);
+      const double v0 = quantile(upward, 0.01), v1 = quantile(upward, 0.99);
+      const double needed =
+          1.04 * std::max(0.5 * (v1 - v0), 0.5 * (u1 - u0) / (static_cast<double>(w) / h));
+      if (needed > 1e-9 && needed < tan_half) {
+        forward = (forward + 0.5 * (u0 + u1) * right + 0.5 * (v0 + v1) * up).normalized();
+        axes(right, up);
+        focal = h / (2 * needed);
+      }
+    }
+  }
 
   // Splat radius: the spacing of the points as they would cover the box's projected area.
   const double depth = (box.center() - eye).norm();

@@ -231,7 +231,8 @@ TEST(SplatRenderer, SensorCameraLooksAlongTheSensorAxis) {
   RenderParameters r;
   r.width = 64;
   r.height = 48;
-  useSensorCamera(r, origin, q, x);
+  useSensorCamera(r, origin, q, x, Eigen::Vector3d::Zero());
+  r.frame_points = false;  // the sensor's own view, not turned to the two points drawn
   ASSERT_TRUE(r.eye && r.target);
   EXPECT_LT((*r.eye - origin).norm(), 1e-12);
   EXPECT_LT((*r.target - (origin + 4.0 * ahead)).norm(), 1e-9);  // median depth of 2, 4, 6
@@ -248,6 +249,31 @@ TEST(SplatRenderer, SensorCameraLooksAlongTheSensorAxis) {
   for (std::size_t row = 25; row < 48; ++row)
     below = below || image[(row * 64u + 32u) * 3u + 2] == 200;
   EXPECT_TRUE(below) << "the point below the axis is in the lower half";
+}
+
+// Issue 38: PCL's office and tabletop scans are camera-frame points (z ahead) saved with the
+// VIEWPOINT 0 0 0 0 1 0 0 (180° about x): read as the sensor's place, the camera would look along
+// −z, away from every point (a blank picture). The points' own frame sees them all: the camera
+// looks along +z at their median depth, up −y, as PCL's viewer shows the scan.
+TEST(SplatRenderer, ACameraFrameScanWithARotatedViewpointIsSeenFromItsOwnFrame) {
+  const Eigen::Quaterniond flip(0.0, 1.0, 0.0, 0.0);  // w x y z: 180° about x
+  Eigen::Matrix3Xf x(3, 3);
+  x << 0.1f, -0.2f, 0.0f,  //
+      0.0f, 0.1f, -0.3f,   //
+      1.0f, 2.0f, 3.0f;
+  RenderParameters r;
+  useSensorCamera(r, Eigen::Vector3d::Zero(), flip, x, Eigen::Vector3d::Zero());
+  ASSERT_TRUE(r.eye && r.target);
+  EXPECT_LT(r.eye->norm(), 1e-12);
+  EXPECT_LT((*r.target - Eigen::Vector3d(0, 0, 2)).norm(), 1e-12);  // median depth of 1, 2, 3
+  EXPECT_LT((r.up - Eigen::Vector3d(0, -1, 0)).norm(), 1e-12);
+  // A world-frame cloud posed the same way (its points at −z) keeps the pose's view.
+  x.row(2) *= -1.0f;
+  x.row(1) *= -1.0f;
+  RenderParameters w;
+  useSensorCamera(w, Eigen::Vector3d::Zero(), flip, x, Eigen::Vector3d::Zero());
+  EXPECT_LT((*w.target - Eigen::Vector3d(0, 0, -2)).norm(), 1e-12);
+  EXPECT_LT((w.up - Eigen::Vector3d(0, 1, 0)).norm(), 1e-12);
 }
 
 }  // namespace

@@ -53,4 +53,16 @@ void writeCloudPly(const PointData& data, const std::string& path, bool binary);
 /// The PCLPointCloud2 that writeCloudPly writes (exposed for tests and other writers).
 pcl::PCLPointCloud2 toBlob(const PointData& data);
 
+/// \a blob in PCL's own conventions, as its point types hold them: uchar red, green and blue
+/// packed into one uint32 `rgb` (0xAARRGGBB, opaque) where red was, and an int `label` as uint32
+/// (−1, no segment, becomes 4294967295: the mark of an unlabelled point in PCL's
+/// OrganizedConnectedComponentSegmentation). Other fields are unchanged.
+pcl::PCLPointCloud2 toPclConventions(const pcl::PCLPointCloud2& blob);
+
+/// Writes the cloud writeCloudPly writes as a binary PCD in PCL's conventions (toPclConventions),
+/// with the input sensor's pose as its VIEWPOINT: pcl::io::loadPCDFile reads it into
+/// pcl::PointXYZRGBL, PointXYZLNormal or PointXYZRGBNormal with the labels and colours.
+/// Writes \a path directly; use OutputFiles for the all-or-nothing behaviour.
+void writeCloudPcd(const PointData& data, const std::string& path);
+
 }  // namespace slipfit::pipeline

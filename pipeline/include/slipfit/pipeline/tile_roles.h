@@ -33,6 +33,9 @@ class JoinedAcrossTiles {
   virtual std::optional<RenderRequest> picture() const = 0;
   /// Leaves the picture out: a tile's picture is not the run's.
   virtual void dropPicture() = 0;
+  /// The option of an output it is asked for that a tiled run does not join (a tiled run refuses
+  /// the config); empty when there is none.
+  virtual std::string unjoinedOutput() const = 0;
 };
 
 /// A stage that analyses a sample of the cloud chosen for the whole cloud (subsample): a tiled

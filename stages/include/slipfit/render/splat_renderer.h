@@ -26,6 +26,9 @@ struct RenderParameters {
   /// Splat radius in pixels. Unset: from the projected point density.
   std::optional<double> splat_radius;
   std::uint8_t background[3] = {255, 255, 255};
+  bool legend = true;  ///< the caller draws a legend on the image (drawLegend)
+  /// Turn to the points and narrow the field of view to them (never wider than field_of_view).
+  bool frame_points = true;
 
   /// The user-facing fields with their one declaration (parameter_declaration.h).
   template <typename Self, typename Visit>
@@ -40,6 +43,9 @@ struct RenderParameters {
                         .in("units"));
     visit(self.width, parameter("image_width", "Render: width.").in("pixels").between(16, 8192));
     visit(self.height, parameter("image_height", "Render: height.").in("pixels").between(16, 8192));
+    visit(self.legend, parameter("legend",
+                                 "Render: a legend in the top-left corner: each "
+                                 "segment's colour, id, type and points, largest first."));
   }
 
   /// Throws InvalidParameterError naming the field.
@@ -48,12 +54,17 @@ struct RenderParameters {
 
 /// Points \a parameters' camera from a range sensor at \a origin with \a orientation, in PCL's
 /// sensor frame convention (the sensor looks along its +z, image rows run along its +y): the eye
-/// at the origin, looking along the sensor's z axis at the median depth of the \a points in front
-/// of it (1 when none is), up the sensor's −y. Camera-frame scans are then seen as they were
-/// taken, not framed by their far background.
+/// at the origin, looking along the sensor's z axis at the median depth of the \a points in its
+/// field of view (1 when none is), up the sensor's −y. Camera-frame scans are then seen as they
+/// were taken, not framed by their far background. PCL also reads a pose as the map from the
+/// points' frame to the world (its viewer moves points and camera alike): when fewer than half of
+/// the points lie ahead of the posed sensor and more lie ahead of one at \a frame_origin (the
+/// points' own origin) looking along their +z, that view is taken (a camera-frame scan saved with a
+/// rotated VIEWPOINT, as PCL's office and tabletop scans are, would otherwise be seen from behind).
 void useSensorCamera(RenderParameters& parameters, const Eigen::Vector3d& origin,
                      const Eigen::Quaterniond& orientation,
-                     const Eigen::Ref<const Eigen::Matrix3Xf>& points);
+                     const Eigen::Ref<const Eigen::Matrix3Xf>& points,
+                     const Eigen::Vector3d& frame_origin);
 
 /// Renders 3 × N points with per-point RGB colours (3 × N) and optional normals (3 × N, any sign;
 /// 0 columns: flat colour) into a row-major RGB image of width × height × 3 bytes. Lambert

@@ -1,0 +1,110 @@
+#include "slipfit/pipeline/cloud_io.h"
+
+#include "slipfit/pipeline/errors.h"
+
+#include <pcl/PCLPointField.h>
+#include <pcl/common/io.h>
+#include <pcl/io/pcd_io.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace slipfit::pipeline {
+
+namespace {
+
+using Field = pcl::PCLPointField;
+
+const Field* findField(const pcl::PCLPointCloud2& blob, const char* name, std::uint8_t datatype) {
+  for (const auto& f : blob.fields)
+    if (f.name == name && f.datatype == datatype && f.count == 1)
+      return &f;
+  return nullptr;
+}
+
+}  // namespace
+
+pcl::PCLPointCloud2 toPclConventions(const pcl::PCLPointCloud2& blob) {
+  const Field* rgb[3] = {findField(blob, "red", Field::UINT8),
+                         findField(blob, "green", Field::UINT8),
+                         findField(blob, "blue", Field::UINT8)};
+  const bool pack = rgb[0] && rgb[1] && rgb[2];
+  pcl::PCLPointCloud2 out;
+  out.header = blob.header;
+  out.width = blob.width;
+  out.height = blob.height;
+  out.is_bigendian = blob.is_bigendian;
+  out.is_dense = blob.is_dense;
+  // Every field but the colour channels, in order; the packed colour where red was.
+  struct Copy {
+    std::uint32_t from, to, bytes;
+  };
+  std::vector<Copy> copies;
+  std::uint32_t rgb_at = 0;
+  for (const Field& f : blob.fields) {
+    const bool channel = pack && (&f == rgb[1] || &f == rgb[2]);
+    if (channel)
+      continue;
+    Field g = f;
+    g.offset = out.point_step;
+    if (pack && &f == rgb[0]) {
+      g.name = "rgb";
+      g.datatype = Field::UINT32;
+      rgb_at = g.offset;
+      out.point_step += 4;
+    } else {
+      // −1 (no segment) is 0xFFFFFFFF in two's complement: the same bytes, read as PCL's mark of
+      // an unlabelled point (OrganizedConnectedComponentSegmentation's).
+      if (f.name == "label" && f.datatype == Field::INT32)
+        g.datatype = Field::UINT32;
+      const std::uint32_t bytes =
+          std::max<std::uint32_t>(f.count, 1) * pcl::getFieldSize(f.datatype);
+      copies.push_back({f.offset, g.offset, bytes});
+      out.point_step += bytes;
+    }
+    out.fields.push_back(g);
+  }
+  const std::size_t n = static_cast<std::size_t>(blob.width) * blob.height;
+  out.row_step = out.point_step * out.width;
+  out.data.resize(n * out.point_step);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t* row = blob.data.data() + i * blob.point_step;
+    std::uint8_t* target = out.data.data() + i * out.point_step;
+    for (const Copy& c : copies)
+      std::memcpy(target + c.to, row + c.from, c.bytes);
+    if (pack) {
+      // 0xAARRGGBB, opaque, as PCL's PointXYZRGB holds it.
+      const std::uint32_t packed = 0xff000000u | std::uint32_t{row[rgb[0]->offset]} << 16 |
+                                   std::uint32_t{row[rgb[1]->offset]} << 8 | row[rgb[2]->offset];
+      std::memcpy(target + rgb_at, &packed, 4);
+    }
+  }
+  return out;
+}
+
+void writeCloudPcd(const PointData& data, const std::string& path) {
+  if (data.size() == 0)
+    throw RunError("output '" + path + "': no points to write");
+  const pcl::PCLPointCloud2 blob = toPclConventions(toBlob(data));
+  Eigen::Vector4f origin = Eigen::Vector4f::Zero();
+  Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
+  if (data.sensor) {
+    origin.head<3>() = (data.sensor->origin + data.frame.shift).cast<float>();
+    orientation = data.sensor->orientation.cast<float>();
+  }
+  pcl::PCDWriter writer;
+  int status = -1;
+  try {
+    status = writer.writeBinary(path, blob, origin, orientation);
+  } catch (const std::exception& e) {
+    throw RunError("output '" + path + "': " + e.what());
+  }
+  std::error_code ec;
+  if (status != 0 || !std::filesystem::exists(path, ec))
+    throw RunError("output '" + path + "': PCL's PCD writer failed (disk full?)");
+}
+
+}  // namespace slipfit::pipeline
