@@ -2,6 +2,7 @@
 
 #include "slipfit/core/exceptions.h"
 
+#include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/pipeline/config.h"
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/registry.h"
@@ -145,6 +146,13 @@ int dispatch(const std::vector<std::string>& args, std::ostream& out) {
     checkConfigFiles(config);
     if (config.tiling.enabled())
       checkTiledRun(config);
+    // The stages' contracts against what the input's header gives: a config that `run` would
+    // refuse for a missing field is refused here, with run's line.
+    if (!config.input.path.empty()) {
+      const std::string flow = checkDataFlow(config, inputDataBits(config.input.path));
+      if (!flow.empty())
+        throw RunError(config.path + ": " + flow);
+    }
     out << parsed.config << ": valid, " << config.stages.size()
         << (config.stages.size() == 1 ? " stage\n" : " stages\n");
     return kSuccess;

@@ -511,6 +511,47 @@ std::vector<CarriedField> carryExtraFields(const pcl::PCLPointCloud2& blob, cons
 
 }  // namespace
 
+unsigned inputDataBits(const std::string& path) {
+  const std::string where = "input '" + path + "': ";
+  detail::checkReadableFile(path, where, "a point cloud file");
+  const std::string ext = lowerExtension(path);
+  if (ext != ".ply" && ext != ".pcd")
+    throw RunError(where + "unsupported file type '" + ext + "' (expected .ply or .pcd)");
+  std::error_code ec;
+  if (fs::file_size(path, ec) == 0)
+    throw RunError(where + "the file is empty");
+  pcl::PCLPointCloud2 blob;
+  Eigen::Vector4f origin;
+  Eigen::Quaternionf orientation;
+  int version = 0, data_type = 0, rc = -1;
+  unsigned int data_index = 0;
+  try {
+    if (ext == ".ply") {
+      detail::checkPlyHeader(path, where);
+      pcl::PLYReader reader;
+      rc = reader.readHeader(path, blob, origin, orientation, version, data_type, data_index, 0);
+    } else {
+      detail::checkPcdHeaderText(path, where);
+      pcl::PCDReader reader;
+      rc = reader.readHeader(path, blob, origin, orientation, version, data_type, data_index, 0);
+    }
+  } catch (const RunError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw RunError(where + "cannot be read: " + e.what());
+  }
+  if (rc < 0)
+    throw RunError(where + "not a readable " + (ext == ".ply" ? "PLY" : "PCD") +
+                   " file (malformed or truncated)");
+  const auto named = [&](const char* a, const char* b) {
+    return std::any_of(blob.fields.begin(), blob.fields.end(),
+                       [&](const Field& f) { return f.name == a || f.name == b; });
+  };
+  const bool normals =
+      named("normal_x", "nx") && named("normal_y", "ny") && named("normal_z", "nz");
+  return kPoints | (normals ? kNormals : 0u);
+}
+
 PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report) {
   const std::string where = "input '" + path + "': ";
   detail::checkReadableFile(path, where, "a point cloud file");

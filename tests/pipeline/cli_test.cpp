@@ -170,6 +170,14 @@ TEST(Cli, StagesDescribeValidate) {
   EXPECT_EQ(r.out, "configs/normals_demo.yaml: valid, 3 stages\n");
   r = runSlipfit("validate configs/sample_scan.yaml");
   EXPECT_EQ(r.out, "configs/sample_scan.yaml: valid, 1 stage\n");
+  // Issue 38: a stage that needs normals the input does not have is refused by validate with
+  // the line run refuses it with (it said "valid" and run then exited 1).
+  r = runSlipfit("validate configs/classify.yaml --set input.path=sample_clouds/scene.ply");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.err,
+            "slipfit: error: configs/classify.yaml: stage 'slippage' (slippage_classification) "
+            "needs normals: the input has none and no earlier stage produces them\n");
+  EXPECT_EQ(r.out, "");
 }
 
 struct ErrorCase {
@@ -269,6 +277,35 @@ INSTANTIATE_TEST_SUITE_P(
     [](const auto& info) { return std::string(info.param.name); });
 
 // Issue 15: a FIFO given as the config blocked forever (`timeout` turns a hang into exit 124).
+// Issue 38: over every shipped config that reads an input, on a cloud without normals and one
+// with them, validate refuses exactly what run refuses for a missing field, with run's line; what
+// validate accepts runs to its end.
+TEST(Cli, ValidateRefusesWhatRunRefusesForEveryShippedConfig) {
+  std::size_t refused = 0, accepted = 0;
+  for (const auto& entry : fs::directory_iterator(std::string(kSourceDir) + "/configs")) {
+    const std::string config = "configs/" + entry.path().filename().string();
+    if (slurp(entry.path().string()).find("\ninput:") == std::string::npos)
+      continue;  // a generator: no input to check against
+    for (const char* input : {"sample_clouds/scene.ply", "sample_clouds/torus_normals.ply"}) {
+      const std::string set = std::string(" --set input.path=") + input;
+      const CliResult v = runSlipfit("validate " + config + set);
+      const CliResult r = runSlipfit("run " + config + set + " --quiet --set output.dir=" +
+                                     scratchDir("contract_" + std::to_string(refused + accepted)));
+      EXPECT_EQ(v.code, r.code) << config << " on " << input << ": validate said " << v.out << v.err
+                                << ", run " << r.err;
+      if (v.code != 0) {
+        EXPECT_EQ(v.err, r.err) << config << " on " << input;
+        ++refused;
+      } else {
+        ++accepted;
+      }
+    }
+  }
+  // The shipped configs include ones that need input normals (classify) and many that do not.
+  EXPECT_GE(refused, 1u);
+  EXPECT_GE(accepted, 8u);
+}
+
 TEST(Cli, AFifoAsTheConfigIsRefusedWithoutBlocking) {
   const std::string fifo = scratchDir("config_fifo.yaml");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);

@@ -44,6 +44,11 @@ Eigen::Vector3d globalShift(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi
 /// non-finite coordinate under NanPolicy::error.
 PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report = nullptr);
 
+/// What the file at \a path gives a pipeline, from its header alone (checked as readCloud checks
+/// it): kPoints, and kNormals when it names normal fields (their values are not read: normals
+/// that are all zero count as none only when the cloud is read). Throws RunError as readCloud.
+unsigned inputDataBits(const std::string& path);
+
 /// Writes every point with its normals (when present), curvature (when computed), the extra fields
 /// and the stage fields as one PLY vertex element, in binary or ascii; coordinates in the input's
 /// frame (+ frame.shift; double when the input's were). Writes \a path directly;
