@@ -5,6 +5,7 @@
 #include "data_guard.h"
 #include "file_checks.h"
 #include "header_guard.h"
+#include "las/las_reader.h"
 #include "ply/ply_header.h"
 
 #include <pcl/PCLPointField.h>
@@ -62,6 +63,21 @@ std::string lowerExtension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+/// The extension of a cloud file slipfit reads (.ply, .pcd, .las), lower-cased; RunError for
+/// another, or for an empty file.
+std::string readableExtension(const std::string& path, const std::string& where) {
+  const std::string ext = lowerExtension(path);
+  if (ext == ".laz")
+    throw RunError(where + "compressed LAS (LAZ): decompress it first, e.g. `pdal translate " +
+                   "in.laz out.las` or `laszip -i in.laz -o out.las`");
+  if (ext != ".ply" && ext != ".pcd" && ext != ".las")
+    throw RunError(where + "unsupported file type '" + ext + "' (expected .ply, .pcd or .las)");
+  std::error_code ec;
+  if (fs::file_size(path, ec) == 0)
+    throw RunError(where + "the file is empty");
   return ext;
 }
 
@@ -514,12 +530,11 @@ std::vector<CarriedField> carryExtraFields(const pcl::PCLPointCloud2& blob, cons
 unsigned inputDataBits(const std::string& path) {
   const std::string where = "input '" + path + "': ";
   detail::checkReadableFile(path, where, "a point cloud file");
-  const std::string ext = lowerExtension(path);
-  if (ext != ".ply" && ext != ".pcd")
-    throw RunError(where + "unsupported file type '" + ext + "' (expected .ply or .pcd)");
-  std::error_code ec;
-  if (fs::file_size(path, ec) == 0)
-    throw RunError(where + "the file is empty");
+  const std::string ext = readableExtension(path, where);
+  if (ext == ".las") {
+    las::readLasHeader(path, where);
+    return kPoints;  // LAS records have no normals
+  }
   pcl::PCLPointCloud2 blob;
   Eigen::Vector4f origin;
   Eigen::Quaternionf orientation;
@@ -555,13 +570,15 @@ unsigned inputDataBits(const std::string& path) {
 PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* report) {
   const std::string where = "input '" + path + "': ";
   detail::checkReadableFile(path, where, "a point cloud file");
-  std::error_code ec;
-  const std::string ext = lowerExtension(path);
-  if (ext != ".ply" && ext != ".pcd")
-    throw RunError(where + "unsupported file type '" + ext + "' (expected .ply or .pcd)");
-  if (fs::file_size(path, ec) == 0)
-    throw RunError(where + "the file is empty");
-  const ReadBlob read = readBlob(path, ext == ".ply", where);
+  const std::string ext = readableExtension(path, where);
+  ReadBlob read;
+  las::LasHeader las_header;
+  if (ext == ".las") {
+    read.blob = las::readLas(path, where, &las_header);
+    read.points = static_cast<std::size_t>(read.blob.width) * read.blob.height;
+  } else {
+    read = readBlob(path, ext == ".ply", where);
+  }
   const std::size_t n = read.points;
   const GeometryFields g = geometryFields(read.blob, n, where);
   std::size_t normals_missing = 0, first_missing_normal = 0;
@@ -589,6 +606,11 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
   if (data.frame.shift != Eigen::Vector3d::Zero())
     data.frame.double_coordinates = true;  // written back as double: float cannot hold them
   checkFloatSpan(lo - data.frame.shift, hi - data.frame.shift, where);
+  if (ext == ".las") {
+    data.frame.grid_scale = Eigen::Vector3d(las_header.scale.data());
+    data.frame.grid_offset = Eigen::Vector3d(las_header.offset.data());
+    data.frame.las_format = las_header.format;
+  }
   data.sensor = sensorPose(read, ext == ".pcd", data.frame.shift);
   data.has_curvature = g.has_normals && g.curvature != nullptr;
   fillCloud(g, keep, data);

@@ -3,6 +3,7 @@
 #include "slipfit/pipeline/errors.h"
 
 #include "header_text.h"
+#include "las/las_reader.h"
 #include "ply/ply_header.h"
 
 #include <algorithm>
@@ -60,10 +61,19 @@ bool parseCount(const std::string& text, std::uint64_t& value) {
 CloudStream::CloudStream(const std::string& path) : path_(path), in_(path, std::ios::binary) {
   if (!in_)
     throw RunError("cannot open '" + path + "'");
+  char magic[4] = {};
+  in_.read(magic, 4);
+  if (in_.gcount() == 4 && std::memcmp(magic, "LASF", 4) == 0) {
+    parseLas();
+    return;  // readLasHeader checked the records against the file's size
+  }
+  in_.clear();
+  in_.seekg(0);
   std::string first;
   std::getline(in_, first);
   if (!first.empty() && first.back() == '\r')
     first.pop_back();
+  in_.clear();
   in_.seekg(0);
   if (first == "ply")
     parsePly();
@@ -243,6 +253,37 @@ void CloudStream::parsePcd() {
   fail("the header has no DATA line");
 }
 
+void CloudStream::parseLas() {
+  auto header =
+      std::make_shared<const las::LasHeader>(las::readLasHeader(path_, "'" + path_ + "': "));
+  encoding_ = Encoding::las;
+  points_ = header->count;
+  data_offset_ = header->data_offset;
+  std::uint32_t row_bytes = 0;
+  for (const pcl::PCLPointField& f : las::decodedFields(*header, row_bytes))
+    addField(f.name, *ply::scalarOfDatatype(f.datatype));
+  coordinate_bytes_ = 8;
+  for (int a = 0; a < 3; ++a) {
+    offset_[a] = fields_[static_cast<std::size_t>(a)].offset;
+    column_[a] = a;
+  }
+  las_ = std::move(header);
+}
+
+void CloudStream::readLasRecords(std::uint64_t first, std::uint64_t count,
+                                 std::vector<char>& rows) {
+  const std::uint64_t stored = las_->record_bytes;
+  std::vector<std::uint8_t> records(static_cast<std::size_t>(count * stored));
+  in_.clear();
+  in_.seekg(static_cast<std::streamoff>(data_offset_ + first * stored));
+  if (!in_.read(reinterpret_cast<char*>(records.data()),
+                static_cast<std::streamsize>(records.size())))
+    fail("the file ends before row " + std::to_string(first + count));
+  for (std::uint64_t r = 0; r < count; ++r)
+    las::decodeRecord(*las_, records.data() + r * stored,
+                      reinterpret_cast<std::uint8_t*>(rows.data() + r * record_bytes_));
+}
+
 void CloudStream::checkRange(std::uint64_t first, std::uint64_t count) const {
   if (first > points_ || count > points_ - first)
     fail("rows " + std::to_string(first) + " to " + std::to_string(first + count) +
@@ -279,6 +320,10 @@ void CloudStream::readRecords(std::uint64_t first, std::uint64_t count, std::vec
   rows.resize(count * record_bytes_);
   if (encoding_ == Encoding::ascii) {
     readAsciiRecords(first, count, rows);
+    return;
+  }
+  if (encoding_ == Encoding::las) {
+    readLasRecords(first, count, rows);
     return;
   }
   in_.clear();

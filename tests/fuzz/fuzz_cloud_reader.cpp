@@ -1,7 +1,8 @@
-// libFuzzer target: the PLY and PCD readers as slipfit uses them (readCloud), and the row-range
-// reader (CloudStream), on arbitrary bytes. The first byte picks the extension. Either a cloud
-// with finite coordinates comes back, or a RunError; the readers must never crash, and readCloud
-// never hands out a non-finite point (CloudStream returns values as stored).
+// libFuzzer target: the PLY, PCD and LAS readers as slipfit uses them (readCloud), and the
+// row-range reader (CloudStream), on arbitrary bytes. The first byte picks the extension: odd is
+// .pcd, 2 modulo 4 is .las, another even value .ply (the seeds' leading bytes keep their reader).
+// Either a cloud with finite coordinates comes back, or a RunError; the readers must never crash,
+// and readCloud never hands out a non-finite point (CloudStream returns values as stored).
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/pipeline/cloud_stream.h"
 #include "slipfit/pipeline/errors.h"
@@ -18,7 +19,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size == 0)
     return 0;
   static const std::string base = "/tmp/slipfit_fuzz_cloud_" + std::to_string(::getpid());
-  const std::string path = base + ((data[0] & 1) ? ".pcd" : ".ply");
+  const char* const extension = (data[0] & 1) ? ".pcd" : (data[0] % 4 == 2) ? ".las" : ".ply";
+  const std::string path = base + extension;
   std::ofstream(path, std::ios::binary)
       .write(reinterpret_cast<const char*>(data + 1), static_cast<std::streamsize>(size - 1));
   for (auto policy : {slipfit::pipeline::NanPolicy::error, slipfit::pipeline::NanPolicy::skip}) {

@@ -1,5 +1,6 @@
 #include "adapters.h"
 
+#include "../las/las_writer.h"
 #include "../png_file.h"
 #include "slipfit/core/angle_units.h"
 #include "slipfit/core/cloud_maps.h"
@@ -43,6 +44,12 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
           "(4294967295: no segment), the segment colour as packed rgb (empty: none).")
         .allowEmpty()
         .fileName(".pcd");
+    o.add("las", las_,
+          "File name of a LAS 1.4 of the same points: the input's point records (its record "
+          "format and coordinate grid when it was LAS) with label and primitive as extra bytes "
+          "(empty: none).")
+        .allowEmpty()
+        .fileName(".las");
     o.add("segment_files", segment_files_, "Also write each segment as segment_<label>.ply.");
     o.add("render", render_, "File name of a PNG picture of the segments (empty: none).")
         .allowEmpty()
@@ -63,6 +70,8 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
     std::vector<std::string> names = {report_, segments_};
     if (!pcd_.empty())
       names.push_back(pcd_);
+    if (!las_.empty())
+      names.push_back(las_);
     if (!render_.empty())
       names.push_back(render_);
     return names;
@@ -70,7 +79,7 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
 
   Files joinedFiles() const override { return {report_, segments_}; }
   std::string unjoinedOutput() const override {
-    return segment_files_ ? "segment_files" : !pcd_.empty() ? "pcd" : "";
+    return segment_files_ ? "segment_files" : !pcd_.empty() ? "pcd" : !las_.empty() ? "las" : "";
   }
   std::optional<RenderRequest> picture() const override {
     if (render_.empty())
@@ -224,6 +233,10 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
                          [&](const std::string& path) { writeCloudPly(view, path, true); });
     if (!pcd_.empty())
       context.outputs->add(pcd_, [&](const std::string& path) { writeCloudPcd(view, path); });
+    if (!las_.empty())
+      context.outputs->add(las_, [&](const std::string& path) {
+        las::writeLas(view, path, {"label", "primitive"});
+      });
     if (!segment_files_)
       return;
     for (std::size_t k = 0; k < result.segments.size(); ++k) {
@@ -281,7 +294,7 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
   SegmentationParameters parameters_;
   RenderParameters render_parameters_;
   std::string report_ = "primitives.yaml", segments_ = "segments.ply", render_ = "segments.png",
-              pcd_;
+              pcd_, las_;
   bool segment_files_ = false;
 };
 

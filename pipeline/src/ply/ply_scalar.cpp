@@ -110,6 +110,11 @@ bool isSigned(Scalar scalar) {
          scalar == Scalar::i64 || isFloating(scalar);
 }
 
+std::optional<std::uint8_t> datatypeOfScalar(Scalar scalar) {
+  const std::uint8_t datatype = entry(scalar).datatype;
+  return datatype ? std::optional<std::uint8_t>(datatype) : std::nullopt;
+}
+
 std::optional<Scalar> scalarOfDatatype(std::uint8_t datatype) {
   if (datatype == 0)
     return std::nullopt;

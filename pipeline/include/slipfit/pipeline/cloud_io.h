@@ -34,7 +34,8 @@ struct ReadReport {
 /// ten at or above the extent, so that the shifted coordinates stay within about ± that power.
 Eigen::Vector3d globalShift(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
 
-/// Reads a .ply (ascii or binary) or .pcd file. Coordinates and normals of any numeric type
+/// Reads a .ply (ascii or binary), .pcd or .las (1.0–1.4, record formats 0–10: las_reader.h)
+/// file; a .laz is refused with how to decompress it. Coordinates and normals of any numeric type
 /// become float; double coordinates first lose their globalShift (PointData::frame); normals are
 /// recognised as normal_x/normal_y/normal_z (PLY nx/ny/nz); every other field is kept in
 /// PointData::extra with its own type. Points with a non-finite coordinate are dropped

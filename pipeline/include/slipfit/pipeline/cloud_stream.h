@@ -12,10 +12,15 @@
 
 #include <cstdint>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace slipfit::pipeline {
+
+namespace las {
+struct LasHeader;
+}
 
 /// One scalar property of a streamed row: its type (a PCD field of 8-byte integers is int64 or
 /// uint64) and its place in the little-endian row that readRecords returns. A PCD field of COUNT
@@ -29,9 +34,10 @@ struct StreamField {
 
 class CloudStream {
  public:
-  /// Opens \a path (.ply or .pcd) and reads its header. Throws RunError naming the file and the
-  /// header line for what it cannot stream: no x, y, z, a list property in the vertex element or
-  /// before it, compressed PCD, a binary file shorter than its header announces.
+  /// Opens \a path (a PLY, a PCD, or a LAS file: told by its first bytes) and reads its header.
+  /// Throws RunError naming the file and the header line for what it cannot stream: no x, y, z, a
+  /// list property in the vertex element or before it, compressed PCD or LAS, a binary file
+  /// shorter than its header announces.
   explicit CloudStream(const std::string& path);
 
   /// Points in the file.
@@ -54,11 +60,13 @@ class CloudStream {
   void read(std::uint64_t first, std::uint64_t count, Eigen::Matrix3Xd& xyz);
 
  private:
-  enum class Encoding { ascii, little_endian, big_endian };
+  enum class Encoding { ascii, little_endian, big_endian, las };
   /// The next header line, without a trailing CR, and its words; false at the end of the file.
   bool headerLine(std::string& line, std::vector<std::string>& words, int& number);
   void parsePly();
   void parsePcd();
+  void parseLas();
+  void readLasRecords(std::uint64_t first, std::uint64_t count, std::vector<char>& rows);
   [[noreturn]] void fail(const std::string& what) const;
   void addField(const std::string& name, ply::Scalar scalar);
   void checkRange(std::uint64_t first, std::uint64_t count) const;
@@ -79,6 +87,7 @@ class CloudStream {
   std::uint64_t ascii_lines_before_ = 0;  ///< ascii PLY: rows of elements before the vertices
   bool started_ = false;                  ///< ascii: the stream stands in the data
   bool coordinate_bytes_set_ = false;
+  std::shared_ptr<const las::LasHeader> las_;  ///< LAS: how its records decode
 };
 
 }  // namespace slipfit::pipeline

@@ -28,6 +28,8 @@ bool isSigned(Scalar scalar);
 /// The scalar of a pcl::PCLPointField datatype (INT8 ... FLOAT64); nullopt for one PCL 1.13 does
 /// not know.
 std::optional<Scalar> scalarOfDatatype(std::uint8_t datatype);
+/// The pcl::PCLPointField datatype of \a scalar; nullopt for the wide integers.
+std::optional<std::uint8_t> datatypeOfScalar(Scalar scalar);
 /// Bytes of one value of a PCLPointField datatype; 0 for one PCL 1.13 does not know.
 std::size_t datatypeBytes(std::uint8_t datatype);
 

@@ -58,6 +58,10 @@ struct SensorPose {
 struct CoordinateFrame {
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
   bool double_coordinates = false;  ///< the input stored x, y, z as double: the outputs do too
+  /// A LAS input's coordinate grid (its integers × grid_scale + grid_offset) and point data record
+  /// format: a LAS output keeps them. Zero scale: the input was not LAS.
+  Eigen::Vector3d grid_scale = Eigen::Vector3d::Zero(), grid_offset = Eigen::Vector3d::Zero();
+  int las_format = -1;
 };
 
 /// The pipeline's state. Every per-point array is aligned with `cloud`.
