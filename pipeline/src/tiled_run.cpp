@@ -484,7 +484,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       OutputFiles outputs(config.output.dir);
       outputs.protect(config.input.path);
       const std::optional<RenderRequest> render = joined.picture();
-      const MergeSummary s = mergeTiles(manifest, runs_dir, segments_name, report_name,
+      const MergeSummary s = mergeTiles(manifest, tiles_dir, runs_dir, segments_name, report_name,
                                         render ? &*render : nullptr, threads, outputs);
       written = outputs.commit();
       progress.end();

@@ -2,6 +2,7 @@
 // generated scenes: the same points once each, the same segments where shapes cross tile
 // borders, and what a rerun, a failure and the thread count do to the outputs.
 #include "run_cli.h"
+#include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/segmentation/segmentation_metrics.h"
 
 #include <gmock/gmock.h>
@@ -16,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -485,6 +487,56 @@ TEST(TiledRun, StagesAreFoundByRoleNotByName) {
   EXPECT_EQ(written, (std::set<std::string>{"parts.png", "parts.ply", "parts.yaml"}));
   EXPECT_EQ(readFields(dir + "/tiled/parts.ply").ints.at("label").size(),
             readFields(dir + "/untiled/parts.ply").ints.at("label").size());
+}
+
+// Issue 39: a tiled segments.ply lists the points in the input's order, as the untiled one does:
+// row i of both is the same point, on an input with non-finite rows (dropped by input.nan: skip,
+// every 97th) and with a crop stage that removes points inside the tiles' runs (z ≤ 0.3 kept).
+TEST(TiledRun, SegmentsAreInTheInputsOrderDespiteDroppedAndCroppedRows) {
+  const std::string cloud = scene("tiled_order_scene", 12, 60000, 5);
+  pipeline::PointData data = pipeline::readCloud(cloud, pipeline::NanPolicy::error);
+  for (std::size_t i = 0; i < data.size(); i += 97)
+    data.cloud->points[i].x = std::numeric_limits<float>::quiet_NaN();
+  const std::string dir = scratchDir("tiled_order");
+  fs::create_directories(dir);
+  const std::string input = dir + "/with_nan.ply";
+  pipeline::writeCloudPly(data, input, true);
+  std::string demo = slurp(std::string(kSourceDir) + "/configs/demo.yaml");
+  const std::string cropped = dir + "/cropped.yaml";
+  {
+    const std::string first = "stages:\n";
+    std::string text = demo;
+    text.replace(text.find(first), first.size(),
+                 first + "  - {type: crop, tag: low, field: z, max: 0.3}\n");
+    std::ofstream(cropped) << text;
+  }
+  const auto xyz = [](const std::string& ply) {
+    const pipeline::PointData d = pipeline::readCloud(ply, pipeline::NanPolicy::error);
+    std::vector<float> v;
+    for (const auto& p : d.cloud->points)
+      v.insert(v.end(), {p.x, p.y, p.z});
+    return v;
+  };
+  for (const std::string& config : {std::string(kSourceDir) + "/configs/demo.yaml", cropped}) {
+    const std::string base = "run " + config + " --quiet --set input.path=" + input +
+                             " --set 'segments.render=\"\"' --set output.dir=" + dir;
+    CliResult r = runSlipfit(base + "/untiled");
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = runSlipfit(base + "/tiled --set tiling.size=4 --set tiling.buffer=0.5");
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_GE(tilesIn(dir + "/tiled/tiles"), 9);
+    const std::vector<float> a = xyz(dir + "/untiled/segments.ply");
+    const std::vector<float> b = xyz(dir + "/tiled/segments.ply");
+    ASSERT_EQ(a.size(), b.size()) << config;
+    const std::size_t finite = data.size() - (data.size() + 96) / 97;
+    if (config == cropped)
+      EXPECT_LT(a.size(), 3 * finite);  // the crop removed some
+    else
+      EXPECT_EQ(a.size(), 3 * finite);
+    EXPECT_EQ(a, b) << config;
+    fs::remove_all(dir + "/tiled");
+    fs::remove_all(dir + "/untiled");
+  }
 }
 
 TEST(TiledRun, FailuresSayWhatFailedAndWriteNoOutput) {

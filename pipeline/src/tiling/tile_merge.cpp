@@ -75,14 +75,76 @@ struct TileRows {
   std::vector<std::uint8_t> picture_colours;
 };
 
-/// Writes the points a tile owns from its \a ply, as rows of \a fields at \a offset of \a file,
-/// with the labels of the whole cloud (\a global: per tile label), their colours and types; the
-/// first of them is point \a first of the file, and every \a every-th point of the file is kept
-/// for the picture when \a picture.
+/// Rows of the points a tile owns, ascending, read from a tile file or a tile run's output (their
+/// tile_row where tile_core is not 0).
+class OwnedRows {
+ public:
+  explicit OwnedRows(const std::string& ply) : in_(ply) {
+    const StreamField* row = findField(in_.fields(), "tile_row");
+    const StreamField* core = findField(in_.fields(), "tile_core");
+    if (!row || !core)
+      throw RunError("'" + ply + "': no tile_row and tile_core");
+    row_ = fieldAt(*row);
+    core_ = fieldAt(*core);
+  }
+  /// The next owned row; false after the last.
+  bool next(std::uint64_t& row) {
+    for (;;) {
+      if (k_ == n_) {
+        if (first_ >= in_.size())
+          return false;
+        n_ = std::min<std::uint64_t>(1u << 16, in_.size() - first_);
+        in_.readRecords(first_, n_, rows_);
+        first_ += n_;
+        k_ = 0;
+      }
+      const char* r = rows_.data() + k_++ * in_.recordBytes();
+      if (core_.get(r) != 0.0) {
+        row = static_cast<std::uint64_t>(row_.get(r));
+        return true;
+      }
+    }
+  }
+
+ private:
+  CloudStream in_;
+  FieldAt row_, core_;
+  std::vector<char> rows_;
+  std::uint64_t first_ = 0, n_ = 0, k_ = 0;
+};
+
+/// The rows of the points the tile file \a tile_ply owns that its run's \a output_ply does not
+/// hold (a stage of the run removed them: a crop), ascending.
+std::vector<std::uint64_t> removedRows(const std::string& tile_ply, const std::string& output_ply) {
+  OwnedRows in(tile_ply), out(output_ply);
+  std::vector<std::uint64_t> removed;
+  std::uint64_t a = 0, b = 0;
+  bool more = out.next(b);
+  while (in.next(a)) {
+    if (more && a == b) {
+      more = out.next(b);
+      continue;
+    }
+    if (more && b < a)
+      throw RunError("'" + output_ply + "': row " + std::to_string(b) + " is not its tile's, or " +
+                     "out of order");
+    removed.push_back(a);
+  }
+  if (more)
+    throw RunError("'" + output_ply + "': row " + std::to_string(b) + " is not its tile's");
+  return removed;
+}
+
+/// Writes the points a tile owns from its \a ply as rows of \a fields in \a file, whose rows
+/// start at byte \a offset, with the labels of the whole cloud (\a global: per tile label), their
+/// colours and types. A point's row in the file is its tile_row less the rows before it that no
+/// tile wrote (\a missing, ascending): the input's order. Every \a every-th row of the file is
+/// kept for the picture when \a picture.
 TileRows writeTileRows(const std::string& ply, const std::vector<StreamField>& fields,
-                       const PositionalFile& file, std::uint64_t offset, std::uint64_t first,
-                       std::uint64_t every, bool picture, const Eigen::Vector3d& origin,
-                       const std::vector<std::int32_t>& global, const std::vector<Joined>& joined) {
+                       const PositionalFile& file, std::uint64_t offset, std::uint64_t total,
+                       const std::vector<std::uint64_t>& missing, std::uint64_t every, bool picture,
+                       const Eigen::Vector3d& origin, const std::vector<std::int32_t>& global,
+                       const std::vector<Joined>& joined) {
   CloudStream in(ply);
   const std::vector<StreamField> kept = withoutFields(in.fields(), {"tile_row", "tile_core"});
   if (kept.size() != fields.size() ||
@@ -96,6 +158,10 @@ TileRows writeTileRows(const std::string& ply, const std::vector<StreamField>& f
   if (!core_f || !label_f || !type_f || !rgb_f[0] || !rgb_f[1] || !rgb_f[2])
     throw RunError("'" + ply + "': not a segmentation output of a tile");
   const FieldAt core = fieldAt(*core_f), label = fieldAt(*label_f), type = fieldAt(*type_f);
+  const StreamField* row_f = findField(in.fields(), "tile_row");
+  if (!row_f)
+    throw RunError("'" + ply + "': not a segmentation output of a tile");
+  const FieldAt tile_row = fieldAt(*row_f);
   const FieldAt colour[3] = {fieldAt(*rgb_f[0]), fieldAt(*rgb_f[1]), fieldAt(*rgb_f[2])};
   const FieldAt xyz[3] = {fieldAt(*findField(fields, "x")), fieldAt(*findField(fields, "y")),
                           fieldAt(*findField(fields, "z"))};
@@ -112,15 +178,33 @@ TileRows writeTileRows(const std::string& ply, const std::vector<StreamField>& f
   Distances* sums = nullptr;
   std::vector<char> rows, row_out;
   constexpr std::uint64_t kChunk = 1u << 16;
+  // Runs of consecutive rows of the file are written at once.
+  std::uint64_t run_first = 0, previous = 0;
+  std::size_t skipped = 0;  // missing rows before the current point
+  const auto flush = [&] {
+    if (!row_out.empty())
+      file.write(offset + run_first * bytes, row_out.data(), row_out.size());
+    row_out.clear();
+  };
   for (std::uint64_t r0 = 0; r0 < in.size(); r0 += kChunk) {
     const std::uint64_t n = std::min(kChunk, in.size() - r0);
     in.readRecords(r0, n, rows);
-    row_out.clear();
-    const std::uint64_t chunk_first = w.points;
     for (std::uint64_t r = 0; r < n; ++r) {
       const char* row = rows.data() + r * in.recordBytes();
       if (core.get(row) == 0.0)
         continue;
+      const auto input_row = static_cast<std::uint64_t>(tile_row.get(row));
+      while (skipped < missing.size() && missing[skipped] < input_row)
+        ++skipped;
+      const std::uint64_t place = input_row - skipped;
+      if (place >= total || (w.points > 0 && place <= previous))
+        throw RunError("'" + ply + "': tile_row " + std::to_string(input_row) +
+                       " out of order or past the " + std::to_string(total) + " points written");
+      if (row_out.empty() || place != previous + 1) {
+        flush();
+        run_first = place;
+      }
+      previous = place;
       const std::size_t at = row_out.size();
       row_out.resize(at + bytes);
       char* o = row_out.data() + at;
@@ -132,7 +216,7 @@ TileRows writeTileRows(const std::string& ply, const std::vector<StreamField>& f
       const Rgb c = g < 0 ? kUnassignedColour : segmentColour(static_cast<std::size_t>(g));
       for (int a = 0; a < 3; ++a)
         colour[a].set(o, c[static_cast<std::size_t>(a)]);
-      if (picture && (first + w.points) % every == 0) {
+      if (picture && place % every == 0) {
         for (int a = 0; a < 3; ++a) {
           w.picture_points.push_back(static_cast<float>(xyz[a].get(o) - origin[a]));
           w.picture_normals.push_back(n_f[a] ? static_cast<float>(fieldAt(*n_f[a]).get(o)) : 0.0f);
@@ -157,16 +241,17 @@ TileRows writeTileRows(const std::string& ply, const std::vector<StreamField>& f
       sums->inliers += d <= j.inlier_distance ? 1 : 0;
       ++w.assigned;
     }
-    file.write(offset + chunk_first * bytes, row_out.data(), row_out.size());
+    flush();
   }
   return w;
 }
 
 }  // namespace
 
-MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
-                        const std::string& segments_name, const std::string& report_name,
-                        const RenderRequest* render, int workers, OutputFiles& outputs) {
+MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
+                        const std::string& runs_dir, const std::string& segments_name,
+                        const std::string& report_name, const RenderRequest* render, int workers,
+                        OutputFiles& outputs) {
   const std::size_t tiles = m.tiles.size();
   const auto dirOf = [&](std::size_t t) { return runs_dir + "/" + m.tiles[t].name(); };
   std::map<TileKey, std::size_t> index;
@@ -287,14 +372,28 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
                      [&](std::size_t k) { refit(joined[complete[k]], origin); });
   }
 
-  // segments.ply: each tile's own points, with the whole cloud's labels and colours. The tiles'
-  // rows have one size and each tile's place in the file follows from the points owned by the
-  // tiles before it: tiles are written side by side, each at its place (pwrite), and each
-  // tile's sums are kept apart and added in tile order.
-  std::vector<std::uint64_t> start(tiles + 1, 0);
-  for (std::size_t t = 0; t < tiles; ++t)
-    start[t + 1] = start[t] + owned[t];
-  const std::uint64_t total = start[tiles];
+  // segments.ply: each tile's own points, with the whole cloud's labels and colours, in the
+  // input's order. The rows have one size and each point's place in the file is its tile_row
+  // (its row among the input's finite points) less the rows before it that a tile's run removed
+  // (a crop): tiles are written side by side, each point at its place (pwrite), and each tile's
+  // sums are kept apart and added in tile order.
+  std::uint64_t total = 0;
+  std::vector<std::vector<std::uint64_t>> removed(tiles);
+  forEachOnWorkers(tiles, workers, [&](std::size_t t) {
+    if (owned[t] > m.tiles[t].core)
+      throw RunError("'" + dirOf(t) + "/" + segments_name + "': " + std::to_string(owned[t]) +
+                     " points owned, the tile owns " + std::to_string(m.tiles[t].core));
+    if (owned[t] < m.tiles[t].core)
+      removed[t] =
+          removedRows(tiles_dir + "/" + m.tiles[t].name() + ".ply", dirOf(t) + "/" + segments_name);
+  });
+  std::vector<std::uint64_t> missing;
+  for (std::size_t t = 0; t < tiles; ++t) {
+    total += owned[t];
+    missing.insert(missing.end(), removed[t].begin(), removed[t].end());
+  }
+  removed.clear();
+  std::sort(missing.begin(), missing.end());
   // The picture's points: every k-th point written, relative to the origin (float keeps them).
   const std::uint64_t every =
       std::max<std::uint64_t>(1, (total + kRenderedPoints - 1) / kRenderedPoints);
@@ -310,12 +409,10 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& runs_dir,
       if (!out)
         throw RunError("'" + path + "': write failed (disk full?)");
     }
-    const std::uint64_t bytes = fields.back().offset + fields.back().bytes;
     PositionalFile file(path);
     forEachOnWorkers(tiles, workers, [&](std::size_t t) {
-      written[t] = writeTileRows(dirOf(t) + "/" + segments_name, fields, file,
-                                 header.size() + start[t] * bytes, start[t], every,
-                                 render != nullptr, origin, global[t], joined);
+      written[t] = writeTileRows(dirOf(t) + "/" + segments_name, fields, file, header.size(), total,
+                                 missing, every, render != nullptr, origin, global[t], joined);
       if (written[t].points != owned[t])
         throw RunError("'" + dirOf(t) + "/" + segments_name +
                        "': " + std::to_string(written[t].points) +

@@ -1,8 +1,8 @@
 #pragma once
 /// \file The merge of a tiled run: segments of neighbouring tiles joined on their shared buffer
 /// points (segment_joining.h), each joined segment refitted on the union of its pieces' samples,
-/// and segments.ply and primitives.yaml written as streams, tile after tile, each point from the
-/// one tile that owns it (docs/TILING.md).
+/// and segments.ply (in the input's order) and primitives.yaml written as streams, each point from
+/// the one tile that owns it (docs/TILING.md).
 
 #include "tiler.h"
 
@@ -26,12 +26,14 @@ struct MergeSummary {
 /// The picture of the merged segments draws at most kRenderedPoints of them (every k-th written).
 constexpr std::uint64_t kRenderedPoints = 2000000;
 
-/// Merges the finished runs of \a manifest's tiles in \a runs_dir (one directory per tile) into
+/// Merges the finished runs of \a manifest's tiles (their files in \a tiles_dir) in \a runs_dir
+/// (one directory per tile) into
 /// \a segments_name and \a report_name, and the picture when \a render is given, added to
 /// \a outputs (committed by the caller). Up to \a workers tiles are read and written at a time;
 /// the outputs do not depend on it.
-MergeSummary mergeTiles(const TilingManifest& manifest, const std::string& runs_dir,
-                        const std::string& segments_name, const std::string& report_name,
-                        const RenderRequest* render, int workers, OutputFiles& outputs);
+MergeSummary mergeTiles(const TilingManifest& manifest, const std::string& tiles_dir,
+                        const std::string& runs_dir, const std::string& segments_name,
+                        const std::string& report_name, const RenderRequest* render, int workers,
+                        OutputFiles& outputs);
 
 }  // namespace slipfit::pipeline::tiling

@@ -215,11 +215,12 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
   std::size_t buffered = 0;
   std::vector<char> row_out(tile_row_bytes);
   const RowCopy copy(in.fields(), withoutFields(fields, {"tile_row", "tile_core"}));
+  std::uint64_t kept = 0;  // the row among the finite points: the row of segments.ply
   forEachRow(
       in, input, nan,
-      [&](std::uint64_t index, const char* row, double x, double y, double) {
+      [&](std::uint64_t, const char* row, double x, double y, double) {
         copy.apply(row, row_out.data());
-        const double row_index = static_cast<double>(index);
+        const double row_index = static_cast<double>(kept++);
         std::memcpy(row_out.data() + kept_bytes, &row_index, 8);
         const TileKey own = ownerOf(x, y);
         int holders = 0;
@@ -272,7 +273,7 @@ std::string manifestText(const TilingManifest& m) {
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap;
-  out << YAML::Key << "slipfit_tiling" << YAML::Value << 2;
+  out << YAML::Key << "slipfit_tiling" << YAML::Value << 3;
   out << YAML::Key << "input" << YAML::Value << m.input;
   out << YAML::Key << "input_bytes" << YAML::Value << m.input_bytes;
   out << YAML::Key << "input_mtime" << YAML::Value << m.input_mtime;
@@ -298,7 +299,7 @@ bool readManifest(const std::string& path, TilingManifest& m) {
     return false;
   try {
     const YAML::Node n = YAML::LoadFile(path);
-    if (!n.IsMap() || !n["slipfit_tiling"] || n["slipfit_tiling"].as<int>() != 2)
+    if (!n.IsMap() || !n["slipfit_tiling"] || n["slipfit_tiling"].as<int>() != 3)
       return false;
     m.input = n["input"].as<std::string>();
     m.input_bytes = n["input_bytes"].as<std::uint64_t>();

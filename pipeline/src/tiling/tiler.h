@@ -2,7 +2,8 @@
 /// \file Streaming a cloud into tiles (tile_grid.h): two reads of the input by row ranges
 /// (CloudStream), one to count each tile's points, one to write them; memory is bounded by the
 /// write buffers, whatever the size of the cloud. Each tile is a binary PLY of the input's
-/// fields plus `tile_row` (the point's row in the input, exact as a double up to 2^53) and
+/// fields plus `tile_row` (the point's row among the input's points with finite coordinates, its
+/// row in segments.ply: the input's row when none is dropped; exact as a double up to 2^53) and
 /// `tile_core`: 0 where a neighbour owns the point, 1 where this tile owns it alone, 2 where it
 /// owns it and a neighbour holds it too (the shared points that the merge compares).
 
