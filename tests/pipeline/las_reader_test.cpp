@@ -9,6 +9,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -425,10 +426,12 @@ TEST(LasReader, SegmentsLasKeepsEveryInputFieldAndAddsTheLabels) {
     const std::string input = writeFile(
         name + ".las", lasFile(c.minor, c.format, scenePoints(c.format), scale, c.offset));
     const std::string out = scratchDir("las_" + name);
-    const CliResult r = runSlipfit("run configs/demo.yaml --quiet --set input.path=" + input +
-                                   " --set 'segments.render=\"\"' --set segments.las=segments.las"
-                                   " --set output.dir=" +
-                                   out);
+    const CliResult r =
+        runSlipfit("run configs/demo.yaml --quiet --set input.path=" + input +
+                   " --set 'segments.render=\"\"' --set segments.las=segments.las --set "
+                   "segments.local_copy=local.ply"
+                   " --set output.dir=" +
+                   out);
     ASSERT_EQ(r.code, 0) << r.err;
     const std::string las = slurp(out + "/segments.las");
     ASSERT_GT(las.size(), 375u);
@@ -453,6 +456,24 @@ TEST(LasReader, SegmentsLasKeepsEveryInputFieldAndAddsTheLabels) {
         pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
     EXPECT_EQ(b.numericField("label"), ply.numericField("label"));
     EXPECT_EQ(b.numericField("primitive"), ply.numericField("primitive"));
+    // The float copy in the local frame: the same rows, coordinates less the global shift that
+    // primitives.yaml gives, as float (to half a float step at the local magnitude, < 4 m here).
+    const YAML::Node report = YAML::LoadFile(out + "/primitives.yaml");
+    Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+    if (report["global_shift"])
+      for (int k = 0; k < 3; ++k)
+        shift[k] = report["global_shift"][k].as<double>();
+    EXPECT_EQ(shift.isZero(), c.offset[0] == 0.0);
+    EXPECT_THAT(slurp(out + "/local.ply"), HasSubstr("property float x\n"));
+    const pipeline::PointData local =
+        pipeline::readCloud(out + "/local.ply", pipeline::NanPolicy::error);
+    ASSERT_EQ(local.size(), a.size());
+    EXPECT_EQ(local.numericField("label"), ply.numericField("label"));
+    for (std::size_t i = 0; i < a.size(); ++i)
+      for (int k = 0; k < 3; ++k)
+        ASSERT_NEAR(local.cloud->points[i].data[k] + shift[k],
+                    ply.cloud->points[i].data[k] + ply.frame.shift[k], std::ldexp(1.0, -22))
+            << i;
     const std::vector<double> labels = b.numericField("label");
     EXPECT_GE(*std::max_element(labels.begin(), labels.end()), 4.0);  // ground, box, ball, ...
   }

@@ -50,6 +50,12 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
           "(empty: none).")
         .allowEmpty()
         .fileName(".las");
+    o.add("local_copy", local_copy_,
+          "File name of a float copy of the segments PLY in the local frame: coordinates less "
+          "primitives.yaml's global_shift, for tools that read float only (empty: none; the "
+          "same file as the segments PLY when the input has no shift).")
+        .allowEmpty()
+        .fileName(".ply");
     o.add("segment_files", segment_files_, "Also write each segment as segment_<label>.ply.");
     o.add("render", render_, "File name of a PNG picture of the segments (empty: none).")
         .allowEmpty()
@@ -72,6 +78,8 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
       names.push_back(pcd_);
     if (!las_.empty())
       names.push_back(las_);
+    if (!local_copy_.empty())
+      names.push_back(local_copy_);
     if (!render_.empty())
       names.push_back(render_);
     return names;
@@ -79,7 +87,11 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
 
   Files joinedFiles() const override { return {report_, segments_}; }
   std::string unjoinedOutput() const override {
-    return segment_files_ ? "segment_files" : !pcd_.empty() ? "pcd" : !las_.empty() ? "las" : "";
+    return segment_files_         ? "segment_files"
+           : !pcd_.empty()        ? "pcd"
+           : !las_.empty()        ? "las"
+           : !local_copy_.empty() ? "local_copy"
+                                  : "";
   }
   std::optional<RenderRequest> picture() const override {
     if (render_.empty())
@@ -237,6 +249,12 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
       context.outputs->add(las_, [&](const std::string& path) {
         las::writeLas(view, path, {"label", "primitive"});
       });
+    if (!local_copy_.empty()) {
+      PointData local = view;
+      local.frame = CoordinateFrame{};  // the cloud's own float coordinates: input − shift
+      context.outputs->add(local_copy_,
+                           [&](const std::string& path) { writeCloudPly(local, path, true); });
+    }
     if (!segment_files_)
       return;
     for (std::size_t k = 0; k < result.segments.size(); ++k) {
@@ -294,7 +312,7 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
   SegmentationParameters parameters_;
   RenderParameters render_parameters_;
   std::string report_ = "primitives.yaml", segments_ = "segments.ply", render_ = "segments.png",
-              pcd_, las_;
+              pcd_, las_, local_copy_;
   bool segment_files_ = false;
 };
 
