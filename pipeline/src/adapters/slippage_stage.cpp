@@ -63,7 +63,8 @@ class SlippageStage : public Stage {
     const SlippageResult& s = c.verdict;
     context.report << "slippage: " << slippageTypeName(s.type) << ", " << s.motions
                    << " motions, spectrum " << s.spectrum.transpose() << ", gap " << s.gap
-                   << ", threshold " << options_.threshold << ", surface noise " << c.noise
+                   << ", threshold " << c.spectral.threshold << " (noise energy " << c.noise_energy
+                   << "), surface noise " << c.noise
                    << (s.reason.empty() ? "" : " (" + s.reason + ")") << "\n";
     if (c.spectral.type != s.type)
       context.report << "  the spectrum alone reads " << slippageTypeName(c.spectral.type)

@@ -27,8 +27,8 @@ namespace {
 /// tangent-plane spot, and σ̂ reads 50 × the noise).
 constexpr int kCandidates = 2;
 
-double estimate(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Eigen::Matrix3Xd* normals,
-                int k) {
+SurfaceNoise estimate(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                      const Eigen::Matrix3Xd* normals, int k) {
   if (k < 8 || k > 64)
     throw InvalidParameterError("surface noise: k must be in [8, 64], got " + std::to_string(k));
   std::vector<Eigen::Index> finite;
@@ -40,7 +40,7 @@ double estimate(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Eigen::M
       centroid += points.col(i);
     }
   if (finite.size() <= static_cast<std::size_t>(k))
-    return 0.0;
+    return {};
   centroid /= static_cast<double>(finite.size());
   // The search runs in float on the centred points (their spread, not their distance from the
   // origin, sets the rounding); the covariances use the double coordinates.
@@ -59,7 +59,7 @@ double estimate(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Eigen::M
   std::vector<int> found;
   std::vector<float> squared;
   std::vector<std::pair<double, int>> tangential;
-  std::vector<double> sigma;
+  std::vector<double> sigma, tilt;
   for (std::size_t q = 0; q < finite.size(); q += stride) {
     if (tree.nearestKSearch((*cloud)[q], m, found, squared) < k)
       continue;
@@ -67,7 +67,9 @@ double estimate(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Eigen::M
     // The direction across the surface: the point's own normal, else the least-squares plane's
     // normal of the m nearest points.
     Eigen::Vector3d u = Eigen::Vector3d::Zero();
-    if (normals && normals->col(finite[q]).allFinite() && normals->col(finite[q]).norm() > 0.0) {
+    const bool own =
+        normals && normals->col(finite[q]).allFinite() && normals->col(finite[q]).norm() > 0.0;
+    if (own) {
       u = normals->col(finite[q]).normalized();
     } else {
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -110,20 +112,39 @@ double estimate(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Eigen::M
     const double rss = (height - design * coefficients).squaredNorm();
     if (std::isfinite(rss))
       sigma.push_back(std::sqrt(rss / (k - 6.0)));
+    // The quadric's slope at the query, (d, e) / scale: how far the given normal is tilted from
+    // the surface's (its estimate carries σ / (scale √k) of its own).
+    if (own && coefficients.allFinite())
+      tilt.push_back((coefficients[3] * coefficients[3] + coefficients[4] * coefficients[4]) /
+                     (scale * scale));
   }
-  if (sigma.empty())
-    return 0.0;
-  return medianInPlace(sigma);
+  SurfaceNoise out;
+  if (!sigma.empty())
+    out.position = medianInPlace(sigma);
+  // θ² of a tilt whose two components are N(0, σ_t²) is σ_t² χ²₂, whose median is 2 ln 2.
+  if (!tilt.empty())
+    out.normal_tilt = std::sqrt(medianInPlace(tilt) / (2.0 * std::log(2.0)));
+  return out;
 }
 
 }  // namespace
 
 double estimateSurfaceNoise(const Eigen::Ref<const Eigen::Matrix3Xd>& points, int k) {
-  return estimate(points, nullptr, k);
+  return estimate(points, nullptr, k).position;
 }
 
 double estimateSurfaceNoise(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                             const Eigen::Ref<const Eigen::Matrix3Xd>& normals, int k) {
+  if (normals.cols() != points.cols())
+    throw InvalidParameterError("surface noise: " + std::to_string(normals.cols()) +
+                                " normals for " + std::to_string(points.cols()) + " points");
+  const Eigen::Matrix3Xd n = normals;
+  return estimate(points, &n, k).position;
+}
+
+SurfaceNoise estimateSurfaceAndNormalNoise(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                           const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                           int k) {
   if (normals.cols() != points.cols())
     throw InvalidParameterError("surface noise: " + std::to_string(normals.cols()) +
                                 " normals for " + std::to_string(points.cols()) + " points");

@@ -1,9 +1,14 @@
 // classifyShape's inliers: counted at 3 × the surface noise measured from the points.
 
 #include "slipfit/slippage/shape_classification.h"
+#include "slipfit/sampling/motion_surface_sampler.h"
 #include "slipfit/sampling/primitive_sampler.h"
+#include "varied_shapes.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
 
 namespace slipfit {
 namespace {
@@ -26,6 +31,49 @@ TEST(ShapeClassification, InliersAreThePointsWithinThreeMeasuredSigmas) {
   EXPECT_NEAR(c.noise, kSigma, 0.1 * kSigma);
   EXPECT_GE(c.inliers, static_cast<std::size_t>(0.993 * 8000));
   EXPECT_LE(c.inliers, 8000u);
+}
+
+// Issue 37: the sampler's one-motion surfaces at σ = 0.03 (1.5 % of their length 2, 3 % of their
+// radius 1) with PCA normals of 16 neighbours, 4 seeds each. Their motion's eigenvalue is 0.06–0.19
+// of the largest, over the fixed threshold 0.05: with it all 20 read "none" or torus. It is the
+// energy the measured noise predicts for an exact motion (ShapeClassification::noise_energy; λ₁
+// measured at 1.09–1.79 × it, asserted within [0.5, 3]), and read below 3 × that, the vases,
+// extrusions, open extrusions and twisted columns get their class (16 of 16) and their axis
+// (within 2°; measured at most 1.6°). The 4 helicoids read torus: a torus explains them within
+// 2 σ̂, and without a fitted helicoid to compare by BIC the simpler primitive wins (measured).
+TEST(ShapeClassification, OneMotionSurfacesUnderNoiseAreReadBelowTheirPredictedEnergy) {
+  int right = 0, tori = 0;
+  for (const auto& [surface, name] : kMotionSurfaceNames)
+    for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+      MotionSurfaceParameters m;
+      m.surface = surface;
+      m.noise = 0.03;
+      m.seed = seed;
+      m.axis = Eigen::Vector3d(1.0, 0.5, 2.0);
+      Eigen::Matrix3Xd x, exact;
+      sampleMotionSurface(m, x, exact);
+      Eigen::Matrix3Xd n(3, x.cols());
+      testing::estimatePcaNormals(x, 16, n);
+      const ShapeClassification c = classifyShape(x, n, Eigen::VectorXd::Ones(x.cols()));
+      const double ratio = c.spectral.spectrum(0) / c.noise_energy;
+      EXPECT_GE(ratio, 0.5) << name << " seed " << seed;
+      EXPECT_LE(ratio, 3.0) << name << " seed " << seed;
+      if (surface == MotionSurface::helix) {
+        tori += c.verdict.type == SlippageType::torus ? 1 : 0;
+        continue;
+      }
+      const SlippageType truth = surface == MotionSurface::revolution ? SlippageType::revolution
+                                 : surface == MotionSurface::twisted_column
+                                     ? SlippageType::helix
+                                     : SlippageType::extrusion;
+      EXPECT_EQ(c.verdict.type, truth) << name << " seed " << seed;
+      ASSERT_TRUE(c.verdict.axis.has_value()) << name << " seed " << seed;
+      const double cosine = std::abs(c.verdict.axis->dot(m.axis.normalized()));
+      EXPECT_GE(cosine, std::cos(2.0 * M_PI / 180.0)) << name << " seed " << seed;
+      right += c.verdict.type == truth ? 1 : 0;
+    }
+  EXPECT_EQ(right, 16);
+  EXPECT_EQ(tori, 4);
 }
 
 }  // namespace

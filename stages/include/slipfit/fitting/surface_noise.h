@@ -26,4 +26,19 @@ double estimateSurfaceNoise(const Eigen::Ref<const Eigen::Matrix3Xd>& points, in
 double estimateSurfaceNoise(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                             const Eigen::Ref<const Eigen::Matrix3Xd>& normals, int k = 16);
 
+/// The position noise and the tilt noise of the given normals.
+struct SurfaceNoise {
+  double position = 0.0;  ///< σ̂, as estimateSurfaceNoise with normals
+  /// σ̂_t, radians: the standard deviation of each of the two tilt components of the given normals
+  /// against the local quadric's normal at the query (the median squared tilt / 2 ln 2, the median
+  /// of χ²₂). With exact normals it reads the quadric's own slope error; PCA normals of k
+  /// neighbours within a radius R tilt by about 2 σ / (R √k).
+  double normal_tilt = 0.0;
+};
+
+/// Both, from the same queries and quadrics.
+SurfaceNoise estimateSurfaceAndNormalNoise(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                           const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                                           int k = 16);
+
 }  // namespace slipfit

@@ -26,6 +26,15 @@ namespace slipfit {
 /// √(σ² + δ²/2), above 2 σ̂ once δ ≳ 2.4 σ.
 constexpr double kExplainedNoiseRatio = 2.0;
 
+/// The spectrum's threshold for a slippable motion is raised to this many times the energy that
+/// the measured position and normal noise give an exact motion (ShapeClassification::
+/// noise_energy): the sum over thousands of points concentrates at its mean, and the estimate
+/// of the normals' tilt noise is itself within a factor of about 1.5.
+constexpr double kNoiseEnergyRatio = 3.0;
+/// ... but to no more than this: where noise gives an exact motion a quarter of the largest
+/// energy, the spectrum no longer tells motions apart and the fits decide.
+constexpr double kMostNoiseThreshold = 0.25;
+
 /// One primitive type tried on the whole set.
 struct ShapeCandidate {
   PrimitiveType type = PrimitiveType::plane;
@@ -47,7 +56,10 @@ struct ShapeClassification {
   SlippageResult verdict;
   std::optional<FitResult> fit;  ///< the verdict's primitive fit
   double noise = 0.0;            ///< the measured surface noise σ̂, units
-  double floor = 0.0;            ///< the rounding floor of the distances, units
+  /// The relative energy (spectrum scale) that the measured noise gives the least-energy motion
+  /// were it exact; the motions are read below max(threshold, kNoiseEnergyRatio × it).
+  double noise_energy = 0.0;
+  double floor = 0.0;  ///< the rounding floor of the distances, units
   /// With a fit: the points within inlier_distance = max(3 σ̂, floor) of it — judged against the
   /// noise measured from the points, not the fit's own RMS (which would call most points of any
   /// fit inliers).
