@@ -39,6 +39,37 @@ void parameters(YAML::Emitter& e, const Primitive& p, const Eigen::Vector3d& shi
       p);
 }
 
+/// A fitted kinematic surface: its motion, its profile as a list of [a, b] points in its profile
+/// plane (`profile_coordinates` says which: kinematic_surface.h) and its fit's figures.
+void kinematicSurface(YAML::Emitter& e, const KinematicFit& k, const Eigen::Vector3d& shift) {
+  const KinematicSurface& s = k.surface;
+  e << YAML::Key << "kinematic" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "class" << YAML::Value << std::string(kinematicTypeName(s.type));
+  vec(e, "axis", s.axis);
+  vec(e, "point", s.point + shift);
+  e << YAML::Key << "pitch" << YAML::Value << s.pitch;
+  if (s.type != KinematicType::revolution)
+    vec(e, "reference", s.reference);
+  if (s.type == KinematicType::helix)
+    e << YAML::Key << "cut" << YAML::Value << s.cut;
+  e << YAML::Key << "profile_coordinates" << YAML::Value
+    << (s.type == KinematicType::revolution
+            ? "[height along the axis from point, distance from the axis]"
+        : s.type == KinematicType::extrusion
+            ? "[along reference, along axis x reference], from point"
+            : "[height - pitch * angle from reference, wrapped into [cut, cut + 2 pi |pitch|), "
+              "distance from the axis]");
+  e << YAML::Key << "profile_closed" << YAML::Value << s.profile.closed;
+  e << YAML::Key << "profile" << YAML::Value << YAML::BeginSeq;
+  for (const Eigen::Vector2d& v : s.profile.vertices)
+    e << YAML::Flow << YAML::BeginSeq << v.x() << v.y() << YAML::EndSeq;
+  e << YAML::EndSeq;
+  e << YAML::Key << "rms_distance" << YAML::Value << k.rms_distance;
+  e << YAML::Key << "used_points" << YAML::Value << k.used_points;
+  e << YAML::Key << "parameters" << YAML::Value << parameterCount(s);
+  e << YAML::EndMap;
+}
+
 }  // namespace
 
 std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const std::string& source,
@@ -90,7 +121,9 @@ std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const st
       e << YAML::Key << "slippage_threshold" << YAML::Value << sl.threshold;
       // The motion that slides the surface along itself, whatever the primitive (none for a
       // general surface): the class, its axis and a point on it, and the screw's pitch.
-      if (sl.type != SlippageType::degenerate) {
+      if (r.kinematic) {
+        kinematicSurface(e, *r.kinematic, shift);
+      } else if (sl.type != SlippageType::degenerate) {
         e << YAML::Key << "kinematic" << YAML::Value << YAML::BeginMap;
         e << YAML::Key << "class" << YAML::Value << std::string(slippageTypeName(sl.type));
         if (sl.axis)

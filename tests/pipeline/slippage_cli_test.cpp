@@ -75,6 +75,19 @@ TEST(SlippageCli, OneMotionSurfacesFromTheSurfaceSampler) {
     EXPECT_NEAR(std::abs(k["pitch"].as<double>()), std::string(type) == "helix" ? 0.25 : 0.0,
                 0.0025)
         << shape;
+    // The fitted surface (kinematic_fit.h): its profile, and its RMS distance at the sampler's
+    // σ = 0.002 (Gaussian noise: the true surface's RMS is σ; the fit, a few dozen parameters for
+    // 5000 points, within 0.8–1.25 σ). Its axis passes through the sampler's centre (1, 2, 3).
+    ASSERT_TRUE(k["profile"].IsSequence()) << shape;
+    EXPECT_GE(k["profile"].size(), 2u) << shape;
+    EXPECT_NEAR(k["rms_distance"].as<double>(), 0.002, 0.0005) << shape;
+    if (std::string(type) != "extrusion") {
+      const Eigen::Vector3d w =
+          Eigen::Vector3d(k["point"][0].as<double>(), k["point"][1].as<double>(),
+                          k["point"][2].as<double>()) -
+          Eigen::Vector3d(1, 2, 3);
+      EXPECT_LE((w - w.dot(axis.normalized()) * axis.normalized()).norm(), 0.01) << shape;
+    }
   }
 }
 

@@ -74,6 +74,15 @@ class SlippageStage : public Stage {
         context.report << "  " << primitiveTypeName(k.type) << ": rms " << k.rms
                        << (k.explains ? " (explains the points)" : "") << ", motion energy "
                        << k.energy << " (bound " << k.energy_bound << ")\n";
+    if (c.kinematic)
+      context.report << "  " << kinematicTypeName(c.kinematic->surface.type) << ": rms "
+                     << c.kinematic->rms_distance
+                     << (c.kinematic_explains ? " (explains the points)" : "") << ", profile of "
+                     << c.kinematic->surface.profile.vertices.size() << " vertices ("
+                     << parameterCount(c.kinematic->surface) << " parameters)"
+                     << (c.kinematic_verdict ? ": the verdict" : "") << "\n";
+    if (c.kinematic_verdict)
+      record.kinematic = c.kinematic;
     record.extra["surface_noise"] = std::to_string(c.noise);
     record.fitted = fit_ && c.fit.has_value();
     if (record.fitted) {

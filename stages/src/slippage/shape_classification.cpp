@@ -167,6 +167,50 @@ SlippageType slippageTypeOf(PrimitiveType type) {
   return SlippageType::none;
 }
 
+/// The slippage type of a kinematic surface's class.
+SlippageType slippageTypeOf(KinematicType type) {
+  switch (type) {
+    case KinematicType::revolution:
+      return SlippageType::revolution;
+    case KinematicType::extrusion:
+      return SlippageType::extrusion;
+    case KinematicType::helix:
+      return SlippageType::helix;
+  }
+  return SlippageType::none;
+}
+
+/// The start of a kinematic fit from a one-motion reading: a rotation (cone, torus, revolution),
+/// a translation (extrusion) or a screw (helix), with its axis; a point on the axis when the
+/// reading gives one, else \a fallback.
+std::optional<KinematicStart> kinematicStart(const SlippageResult& r,
+                                             const Eigen::Vector3d& fallback) {
+  if (r.motions != 1 || !r.axis)
+    return std::nullopt;
+  KinematicStart start;
+  switch (r.type) {
+    case SlippageType::cone:
+    case SlippageType::torus:
+    case SlippageType::revolution:
+      start.type = KinematicType::revolution;
+      break;
+    case SlippageType::extrusion:
+      start.type = KinematicType::extrusion;
+      break;
+    case SlippageType::helix:
+      if (!r.pitch || *r.pitch == 0.0)
+        return std::nullopt;
+      start.type = KinematicType::helix;
+      start.pitch = *r.pitch;
+      break;
+    default:
+      return std::nullopt;
+  }
+  start.axis = *r.axis;
+  start.point = r.point ? *r.point : r.center ? *r.center : fallback;
+  return start;
+}
+
 }  // namespace
 
 ShapeClassification classifyShape(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
@@ -275,6 +319,58 @@ ShapeClassification classifyShape(const Eigen::Ref<const Eigen::Matrix3Xd>& poin
     if (!chosen || b < best_bic) {
       best_bic = b;
       chosen = j;
+    }
+  }
+  // The one-motion reading as a kinematic surface with its fitted profile. It has more
+  // parameters than any primitive, so it is the verdict only when the data demand it: no primitive
+  // explains the points, or the best one's RMS is more than the margin of adequacy
+  // (kAdequacyMargin, as fitAuto chooses the simplest adequate type) above the kinematic
+  // surface's, and its BIC, the profile's vertices counted, is the lower. A helicoid that a torus
+  // explains within 2 σ̂ at 1.9 σ̂ reads helix; a torus or cone whose fit, from PCA normals at 2 %
+  // noise, ends a few per cent above the profile's stays a torus or cone. A primitive within the
+  // margin of the noise itself cannot be beaten so: no kinematic fit is tried.
+  const bool one_motion_primitive = chosen && motionCount(accepted[*chosen].type) == 1;
+  const double primitive_rms = chosen ? accepted[*chosen].rms : 0.0;
+  const bool beatable = !chosen || primitive_rms > (1.0 + kAdequacyMargin) * out.noise + out.floor;
+  if (beatable && (!chosen || one_motion_primitive || out.spectral.motions == 1)) {
+    for (const SlippageResult& r : readings) {
+      const std::optional<KinematicStart> start = kinematicStart(r, frame.c);
+      if (!start)
+        continue;
+      KinematicFit k = fitKinematicSurface(*start, p, w, out.noise);
+      if (!k.ok())
+        break;
+      // A polyline profile is drawn to its tolerance at best: noise-free points are explained
+      // within it.
+      out.kinematic_explains =
+          k.rms_distance <= kExplainedNoiseRatio * std::max(out.noise, k.tolerance) + out.floor;
+      const double ms = std::max(k.rms_distance * k.rms_distance, out.floor * out.floor);
+      const double b = m * std::log(ms) + parameterCount(k.surface) * std::log(m);
+      const bool wins =
+          out.kinematic_explains &&
+          (!chosen || (b < best_bic && (1.0 + kAdequacyMargin) * k.rms_distance < primitive_rms));
+      out.kinematic = std::move(k);
+      if (wins) {
+        out.kinematic_verdict = true;
+        SlippageResult& v = out.verdict;
+        v = r;
+        const KinematicSurface& surface = out.kinematic->surface;
+        v.type = slippageTypeOf(surface.type);
+        v.motions = 1;
+        v.reason.clear();
+        v.primitive.reset();
+        v.axis = surface.axis;
+        v.center.reset();
+        v.normal.reset();
+        v.point.reset();
+        v.pitch.reset();
+        if (surface.type != KinematicType::extrusion)
+          v.point = surface.point;
+        if (surface.type == KinematicType::helix)
+          v.pitch = surface.pitch;
+        return out;
+      }
+      break;
     }
   }
   if (chosen) {

@@ -3,6 +3,7 @@
 /// issue (id, type, the parameters by name, inliers, rms_distance, max_distance, status); later
 /// stages add fields, never rename these.
 
+#include "slipfit/fitting/kinematic_fit.h"
 #include "slipfit/fitting/weighted_fit.h"
 #include "slipfit/slippage/slippage.h"
 
@@ -19,6 +20,9 @@ struct PrimitiveRecord {
   FitResult fit;
   bool fitted = true;                      ///< false: no weighted fit (type from slippage only)
   std::optional<SlippageResult> slippage;  ///< the slippage verdict, when one was made
+  /// The kinematic surface of a kinematic verdict (revolution, extrusion, helix): written under
+  /// `kinematic` with its profile in place of the spectrum's motion alone.
+  std::optional<KinematicFit> kinematic;
   std::size_t inliers = 0;  ///< points with positive weight within the inlier distance
   double inlier_distance = 0.0;
   std::map<std::string, std::string> extra;  ///< further scalar fields (added by later stages)

@@ -10,6 +10,7 @@
 /// sphere at 1 % noise, nor normals alone a vase from a cylinder; together they do. Derivation:
 /// docs/THEORY.md §5.4.
 
+#include "slipfit/fitting/kinematic_fit.h"
 #include "slipfit/fitting/weighted_fit.h"
 #include "slipfit/slippage/slippage.h"
 
@@ -55,7 +56,15 @@ struct ShapeClassification {
   /// its refined fit (`primitive`). spectrum and gap are the spectrum's.
   SlippageResult verdict;
   std::optional<FitResult> fit;  ///< the verdict's primitive fit
-  double noise = 0.0;            ///< the measured surface noise σ̂, units
+  /// The kinematic surface (revolution, extrusion, helix) fitted from the spectrum's one-motion
+  /// reading, when there is one and it could decide the verdict: no primitive explains the
+  /// points, the spectrum reads one motion, or the best primitive is a one-motion type (cone,
+  /// torus). It is the verdict when it explains the points and has the least BIC, its profile's
+  /// vertices counted as parameters (kinematic_surface.h).
+  std::optional<KinematicFit> kinematic;
+  bool kinematic_explains = false;  ///< its RMS within kExplainedNoiseRatio × noise + floor
+  bool kinematic_verdict = false;   ///< the verdict is the kinematic surface
+  double noise = 0.0;               ///< the measured surface noise σ̂, units
   /// The relative energy (spectrum scale) that the measured noise gives the least-energy motion
   /// were it exact; the motions are read below max(threshold, kNoiseEnergyRatio × it).
   double noise_energy = 0.0;

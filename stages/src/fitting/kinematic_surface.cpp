@@ -1,0 +1,72 @@
+#include "slipfit/fitting/kinematic_surface.h"
+
+#include "slipfit/core/angle_units.h"
+#include "slipfit/core/name_table.h"
+
+#include <cmath>
+#include <limits>
+
+namespace slipfit {
+
+std::string_view kinematicTypeName(KinematicType type) {
+  return nameIn(kKinematicTypeNames, type);
+}
+
+double KinematicSurface::period() const {
+  return type == KinematicType::helix ? 2.0 * kPi * std::abs(pitch) : 0.0;
+}
+
+Eigen::Vector2d profileCoordinates(const KinematicSurface& s, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d w = p - s.point;
+  const double h = w.dot(s.axis);
+  const Eigen::Vector3d radial = w - h * s.axis;
+  switch (s.type) {
+    case KinematicType::revolution:
+      return {h, radial.norm()};
+    case KinematicType::extrusion:
+      return {w.dot(s.reference), w.dot(s.axis.cross(s.reference))};
+    case KinematicType::helix: {
+      const double theta =
+          std::atan2(radial.dot(s.axis.cross(s.reference)), radial.dot(s.reference));
+      const double period = s.period();
+      double unscrewed = h - s.pitch * theta;
+      if (period > 0.0)
+        unscrewed = s.cut + (unscrewed - s.cut) - period * std::floor((unscrewed - s.cut) / period);
+      return {unscrewed, radial.norm()};
+    }
+  }
+  return {h, radial.norm()};
+}
+
+ProfileProjection projectOnProfile(const KinematicSurface& s, const Eigen::Vector3d& p) {
+  const Eigen::Vector2d q = profileCoordinates(s, p);
+  if (s.type != KinematicType::helix)
+    return projectOnProfile(s.profile, q);
+  // The unscrewed height of a point moved by δ along a helicoid's normal at radius ρ changes by
+  // δ √(ρ² + p²) / ρ: scaled back by ρ / √(ρ² + p²).
+  const double rho = q.y();
+  const double scale = rho / std::sqrt(rho * rho + s.pitch * s.pitch);
+  return projectOnProfile(s.profile, q, scale, s.period());
+}
+
+double distance(const Eigen::Vector3d& p, const KinematicSurface& s) {
+  return projectOnProfile(s, p).distance;
+}
+
+int parameterCount(const KinematicSurface& s) {
+  const int motion = s.type == KinematicType::revolution  ? 4
+                     : s.type == KinematicType::extrusion ? 2
+                                                          : 5;
+  return motion + s.profile.parameterCount();
+}
+
+Eigen::Vector3d referenceAcross(const Eigen::Vector3d& axis) {
+  const Eigen::Vector3d a = axis.normalized();
+  const Eigen::Vector3d e = std::abs(a.x()) <= std::abs(a.y()) && std::abs(a.x()) <= std::abs(a.z())
+                                ? Eigen::Vector3d::UnitX()
+                            : std::abs(a.y()) <= std::abs(a.z()) ? Eigen::Vector3d::UnitY()
+                                                                 : Eigen::Vector3d::UnitZ();
+  return (e - e.dot(a) * a).normalized();
+}
+
+}  // namespace slipfit
