@@ -5,9 +5,13 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <pcl/PolygonMesh.h>
+#include <pcl/io/ply_io.h>
+
 #include <Eigen/Core>
 
 #include <cmath>
+#include <filesystem>
 
 namespace slipfit::testing {
 namespace {
@@ -46,6 +50,20 @@ TEST(SlippageCli, WholeCloudVerdictsOfTheSampleClouds) {
   }
 }
 
+// A mesh is asked for, but a sphere's verdict is a primitive: no mesh file, and the report says
+// why.
+TEST(SlippageCli, NoMeshWhenTheVerdictIsAPrimitive) {
+  const std::string out = scratchDir("classify_no_mesh");
+  const CliResult r = runSlipfit(
+      "run configs/classify.yaml --set input.path=sample_clouds/"
+      "sphere.ply --set slippage.mesh=true --set output.dir=" +
+      out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("mesh: none (the verdict is not a fitted kinematic surface)"));
+  EXPECT_FALSE(std::filesystem::exists(out + "/kinematic.ply"));
+  EXPECT_TRUE(std::filesystem::exists(out + "/primitives.yaml"));
+}
+
 TEST(SlippageCli, OneMotionSurfacesFromTheSurfaceSampler) {
   const std::pair<const char*, const char*> cases[] = {{"helix", "helix"},
                                                        {"revolution", "revolution"},
@@ -56,7 +74,7 @@ TEST(SlippageCli, OneMotionSurfacesFromTheSurfaceSampler) {
     const std::string out = scratchDir(std::string("one_motion_") + shape);
     const CliResult r =
         runSlipfit(std::string("run configs/classify_helix.yaml --set surface.shape=") + shape +
-                   " --set output.dir=" + out);
+                   " --set slippage.mesh=true --set output.dir=" + out);
     ASSERT_EQ(r.code, 0) << r.err;
     const YAML::Node p = YAML::LoadFile(out + "/primitives.yaml")["primitives"][0];
     EXPECT_EQ(p["slippage_type"].as<std::string>(), type) << shape;
@@ -88,6 +106,17 @@ TEST(SlippageCli, OneMotionSurfacesFromTheSurfaceSampler) {
           Eigen::Vector3d(1, 2, 3);
       EXPECT_LE((w - w.dot(axis.normalized()) * axis.normalized()).norm(), 0.01) << shape;
     }
+    // The swept mesh loads in PCL: 96 steps of the profile, a quad per segment and step, and a
+    // ring per step (97 rings for an open sweep; the vase goes all the way round: 96).
+    pcl::PolygonMesh mesh;
+    ASSERT_EQ(pcl::io::loadPLYFile(out + "/kinematic.ply", mesh), 0) << shape;
+    const std::size_t v = k["profile"].size();
+    const std::size_t segments = k["profile_closed"].as<bool>() ? v : v - 1;
+    EXPECT_EQ(mesh.polygons.size(), 96 * segments) << shape;
+    EXPECT_EQ(std::size_t{mesh.cloud.width} * mesh.cloud.height,
+              (std::string(shape) == "revolution" ? 96 : 97) * v)
+        << shape;
+    EXPECT_THAT(r.out, HasSubstr("mesh: kinematic.ply")) << shape;
   }
 }
 

@@ -3,13 +3,16 @@
 #include "slipfit/core/cloud_maps.h"
 #include "slipfit/fitting/weighted_fit.h"
 #include "slipfit/pipeline/errors.h"
+#include "slipfit/pipeline/mesh_io.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/primitives_report.h"
 #include "slipfit/slippage/local_slippage.h"
 #include "slipfit/slippage/shape_classification.h"
 #include "slipfit/slippage/slippage.h"
+#include "slipfit/surfaces/kinematic_mesh.h"
 
 #include <fstream>
+#include <memory>
 #include <ostream>
 #include <utility>
 
@@ -35,6 +38,13 @@ class SlippageStage : public Stage {
           "decide the verdict; see docs/THEORY.md §5.4).");
     o.add("report", report_, "Whole mode: file name of the YAML report in the output dir.")
         .fileName();
+    o.add("mesh", mesh_,
+          "Whole mode: when the verdict is a fitted kinematic surface, also write it as a quad "
+          "mesh, its profile swept over the stretch of the motion the points cover.");
+    o.add("mesh_name", mesh_name_, "File name of that mesh in the output dir.").fileName(".ply");
+    o.add("mesh_steps", mesh_steps_, "Steps of the motion in that mesh.")
+        .unit("steps")
+        .range(1, 100000);
   }
 
   void prepare() override { options_.validate(); }
@@ -46,9 +56,11 @@ class SlippageStage : public Stage {
   }
 
   std::vector<std::string> outputFiles() const override {
-    if (mode_ == SlippageMode::whole)
-      return {report_};
-    return {};
+    if (mode_ != SlippageMode::whole)
+      return {};
+    if (mesh_)
+      return {report_, mesh_name_};
+    return {report_};
   }
 
   void run(PointData& data, RunContext& context) override {
@@ -83,6 +95,10 @@ class SlippageStage : public Stage {
                      << (c.kinematic_verdict ? ": the verdict" : "") << "\n";
     if (c.kinematic_verdict)
       record.kinematic = c.kinematic;
+    if (mesh_ && c.kinematic_verdict)
+      addMesh(c.kinematic->surface, x, data.frame.shift, context);
+    else if (mesh_)
+      context.report << "mesh: none (the verdict is not a fitted kinematic surface)\n";
     record.extra["surface_noise"] = std::to_string(c.noise);
     record.fitted = fit_ && c.fit.has_value();
     if (record.fitted) {
@@ -99,6 +115,20 @@ class SlippageStage : public Stage {
   }
 
  private:
+  void addMesh(KinematicSurface surface, const Eigen::Matrix3Xd& x, const Eigen::Vector3d& shift,
+               RunContext& context) const {
+    if (!context.outputs)
+      throw RunError("no output directory for the mesh");
+    auto mesh = std::make_shared<SurfaceMesh>(kinematicMesh(surface, x, mesh_steps_));
+    // In the input's coordinates, as primitives.yaml's.
+    for (const SurfaceMesh::VertexHandle v : mesh->vertices())
+      mesh->point(v) += OpenMesh::Vec3d(shift.x(), shift.y(), shift.z());
+    context.outputs->add(mesh_name_,
+                         [mesh](const std::string& path) { writeMesh(*mesh, path, true, false); });
+    context.report << "mesh: " << mesh_name_ << ", " << mesh->n_vertices() << " vertices, "
+                   << mesh->n_faces() << " faces\n";
+  }
+
   void runLocal(PointData& data, RunContext& context) {
     LocalSlippage<pcl::PointNormal> local;
     local.setInputCloud(data.cloud);
@@ -138,6 +168,9 @@ class SlippageStage : public Stage {
   SlippageOptions options_;
   bool fit_ = true;
   std::string report_ = "primitives.yaml";
+  bool mesh_ = false;
+  std::string mesh_name_ = "kinematic.ply";
+  int mesh_steps_ = 96;
 };
 
 }  // namespace

@@ -3,9 +3,8 @@
 /// normals, and the naive variant (four separate quarter meshes) for comparison.
 
 #include "slipfit/core/parameter_declaration.h"
+#include "slipfit/surfaces/surface_mesh.h"
 #include "slipfit/surfaces/torus.h"
-
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 #include <Eigen/Geometry>
 
@@ -13,15 +12,6 @@
 #include <string_view>
 
 namespace slipfit {
-
-struct SurfaceMeshTraits : public OpenMesh::DefaultTraits {
-  using Point = OpenMesh::Vec3d;
-  using Normal = OpenMesh::Vec3d;
-  VertexAttributes(OpenMesh::Attributes::Normal);
-  FaceAttributes(OpenMesh::Attributes::Normal);
-};
-/// Polygon mesh with double coordinates and vertex/face normals.
-using SurfaceMesh = OpenMesh::PolyMesh_ArrayKernelT<SurfaceMeshTraits>;
 
 /// How mesh vertices (or samples) are spaced along α and β.
 enum class TorusSpacing {
