@@ -220,6 +220,29 @@ TEST(SegmentationCli, NoSurfaceGivesAnEmptyReportAndSaysSo) {
   EXPECT_TRUE(std::all_of(labels.begin(), labels.end(), [](std::int32_t l) { return l == -1; }));
 }
 
+// The kinematic layout (issue 37's scenes): its truth types are the primitives' codes and 5, 6, 7
+// for the turned part, the extruded section and the thread, each of those with its points.
+TEST(SceneSamplingCli, TheKinematicLayoutCarriesItsKinematicTruth) {
+  const std::string out = scratchDir("kinematic_layout");
+  const CliResult r = runSlipfit(
+      "run configs/sample_scene.yaml --quiet --set scene.layout=kinematic "
+      "--set scene.points=20000 --set output.dir=" +
+      out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const pipeline::PointData cloud =
+      pipeline::readCloud(out + "/cloud.ply", pipeline::NanPolicy::error);
+  const std::vector<std::int32_t> types = intField(cloud, "truth_type");
+  const std::vector<std::int32_t> labels = intField(cloud, "truth_label");
+  ASSERT_EQ(types.size(), 20000u);
+  std::map<std::int32_t, std::size_t> per_type;
+  for (const std::int32_t t : types)
+    ++per_type[t];
+  for (const std::int32_t t : {0, 1, 2, 5, 6, 7})
+    EXPECT_GT(per_type[t], 0u) << "type " << t;
+  EXPECT_EQ(per_type.size(), 6u);
+  EXPECT_EQ(*std::max_element(labels.begin(), labels.end()), 9);  // 10 true surfaces
+}
+
 // A scene of 30 shapes: the terminal lists 20 segments and says how many more there are, and
 // every segment has its own colour in segments.ply (none the grey of unassigned points).
 TEST(SegmentationCli, ManySegmentsAreCountedAndColouredApart) {

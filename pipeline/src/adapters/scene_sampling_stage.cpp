@@ -29,7 +29,7 @@ class SceneSamplingStage : public Stage {
     out.setField({"truth_type", std::move(scene.types)});
     data = std::move(out);
     context.report << "sampled scene: " << data.size() << " points, " << scene.truth.size()
-                   << " true primitives\n";
+                   << " true surfaces\n";
   }
 
  private:
@@ -42,7 +42,8 @@ class SceneSamplingStage : public Stage {
 StageInfo sceneSamplingInfo() {
   return {"scene_sampling",
           "a labelled test scene (fixed: box, cylinder, sphere and cone on a ground plane; random: "
-          "many shapes of all five types) with exact normals and the true label and type per "
+          "many shapes of all five types; kinematic: a turned part, an extruded section and a "
+          "threaded rod among primitives) with exact normals and the true label and type per "
           "point (fields truth_label, truth_type)",
           [] { return std::unique_ptr<Stage>(new SceneSamplingStage); }};
 }

@@ -69,4 +69,13 @@ Eigen::Vector3d referenceAcross(const Eigen::Vector3d& axis) {
   return (e - e.dot(a) * a).normalized();
 }
 
+SectionFrame sectionFrame(const KinematicSurface& s) {
+  SectionFrame f;
+  f.e1 = (s.reference - s.reference.dot(s.axis) * s.axis).normalized();
+  if (!f.e1.allFinite())
+    f.e1 = referenceAcross(s.axis);
+  f.e2 = s.axis.cross(f.e1);
+  return f;
+}
+
 }  // namespace slipfit

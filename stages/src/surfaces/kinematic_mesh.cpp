@@ -11,18 +11,7 @@ namespace slipfit {
 
 namespace {
 
-/// The section frame across the axis: the reference and axis × reference.
-struct Across {
-  Eigen::Vector3d e1, e2;
-  explicit Across(const KinematicSurface& s) {
-    e1 = (s.reference - s.reference.dot(s.axis) * s.axis).normalized();
-    if (!e1.allFinite())
-      e1 = referenceAcross(s.axis);
-    e2 = s.axis.cross(e1);
-  }
-};
-
-double angleAbout(const KinematicSurface& s, const Across& f, const Eigen::Vector3d& p) {
+double angleAbout(const KinematicSurface& s, const SectionFrame& f, const Eigen::Vector3d& p) {
   const Eigen::Vector3d w = p - s.point;
   return std::atan2(w.dot(f.e2), w.dot(f.e1));
 }
@@ -76,7 +65,7 @@ OpenMesh::Vec3d toOm(const Eigen::Vector3d& v) {
 }  // namespace
 
 double motionParameter(const KinematicSurface& s, const Eigen::Vector3d& p) {
-  const Across f(s);
+  const SectionFrame f = sectionFrame(s);
   switch (s.type) {
     case KinematicType::revolution:
       return angleAbout(s, f, p);
@@ -91,7 +80,7 @@ double motionParameter(const KinematicSurface& s, const Eigen::Vector3d& p) {
 }
 
 Eigen::Vector3d sweptPoint(const KinematicSurface& s, const Eigen::Vector2d& v, double t) {
-  const Across f(s);
+  const SectionFrame f = sectionFrame(s);
   switch (s.type) {
     case KinematicType::revolution:
       return s.point + v.x() * s.axis + v.y() * (std::cos(t) * f.e1 + std::sin(t) * f.e2);

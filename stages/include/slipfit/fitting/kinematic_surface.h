@@ -66,4 +66,11 @@ int parameterCount(const KinematicSurface& s);
 /// A unit vector across \a axis chosen continuously from it (the x of its section frame).
 Eigen::Vector3d referenceAcross(const Eigen::Vector3d& axis);
 
+/// The right-handed frame across the axis of \a s: e1 the reference made perpendicular to the
+/// axis (referenceAcross when it is along it), e2 = axis × e1.
+struct SectionFrame {
+  Eigen::Vector3d e1, e2;
+};
+SectionFrame sectionFrame(const KinematicSurface& s);
+
 }  // namespace slipfit

@@ -1,10 +1,11 @@
 #pragma once
-/// \file A labelled test scene of either layout — the fixed one of scene_sampler.h or the random
-/// one of random_scene_sampler.h — with its options declared once: the scene sampling stage's
-/// library side.
+/// \file A labelled test scene of any layout — the fixed one of scene_sampler.h, the random one of
+/// random_scene_sampler.h or the kinematic one of kinematic_scene_sampler.h — with its options
+/// declared once: the scene sampling stage's library side.
 
 #include "slipfit/core/parameter_declaration.h"
 #include "slipfit/fitting/primitives.h"
+#include "slipfit/sampling/kinematic_scene_sampler.h"
 #include "slipfit/sampling/random_scene_sampler.h"
 #include "slipfit/sampling/scene_sampler.h"
 
@@ -18,10 +19,11 @@
 
 namespace slipfit {
 
-enum class SceneLayout { fixed, random };
-constexpr std::array<std::pair<SceneLayout, std::string_view>, 2> kSceneLayoutNames{{
+enum class SceneLayout { fixed, random, kinematic };
+constexpr std::array<std::pair<SceneLayout, std::string_view>, 3> kSceneLayoutNames{{
     {SceneLayout::fixed, "fixed"},
     {SceneLayout::random, "random"},
+    {SceneLayout::kinematic, "kinematic"},
 }};
 
 struct LabelledSceneParameters {
@@ -42,7 +44,10 @@ struct LabelledSceneParameters {
           parameter("layout",
                     "fixed: a box, cylinder, sphere and cone on a ground plane (10 primitives); "
                     "random: `shapes` shapes of all five types, sizes over 20×, random poses, "
-                    "touching and cutting shapes, filleted L-brackets, 500–50,000 points each."),
+                    "touching and cutting shapes, filleted L-brackets, 500–50,000 points each; "
+                    "kinematic: a turned part, an extruded section and a threaded rod with a "
+                    "cylinder and a sphere on a plate (truth_type 5 revolution, 6 extrusion, 7 "
+                    "helix)."),
           kSceneLayoutNames);
     visit(self.shapes,
           parameter("shapes", "Random layout: number of primitives.").between(1, 10000));
@@ -66,6 +71,13 @@ struct LabelledSceneParameters {
 
   /// The parameters of the layout's sampler.
   SceneSamplingParameters fixedLayout() const { return withShared(SceneSamplingParameters{}); }
+  KinematicSceneParameters kinematicLayout() const {
+    KinematicSceneParameters p;
+    p.points = points;
+    p.noise = noise;
+    p.seed = seed;
+    return p;
+  }
   RandomSceneParameters randomLayout() const {
     RandomSceneParameters p = withShared(RandomSceneParameters{});
     p.shapes = shapes;
@@ -91,8 +103,8 @@ struct LabelledSceneParameters {
 struct LabelledScene {
   Eigen::Matrix3Xd points, normals;  ///< 3 × N, exact unit normals (outliers: random)
   std::vector<std::int32_t> labels;  ///< the true primitive of each point, −1 for outliers
-  std::vector<std::int32_t> types;   ///< its PrimitiveType as an integer, −1 for outliers
-  std::vector<Primitive> truth;      ///< the true primitives, indexed by label
+  std::vector<std::int32_t> types;   ///< truthTypeCode of its truth, −1 for outliers
+  std::vector<SurfaceTruth> truth;   ///< the true surfaces, indexed by label
 };
 
 /// Samples the scene of \a parameters' layout. Deterministic for given parameters.
