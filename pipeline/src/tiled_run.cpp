@@ -84,6 +84,11 @@ JoinedAcrossTiles& joinedStage(const PipelineConfig& config) {
     throw ConfigError(why + config.stages.back().tag + "." + unjoined +
                       " is not written by a tiled run (its files are not joined across tiles); "
                       "leave it unset");
+  const std::string setting = joined->unjoinedSetting();
+  if (!setting.empty())
+    throw ConfigError(why + config.stages.back().tag + "." + setting +
+                      " is not for a tiled run (kinematic segments are not joined across tiles "
+                      "yet); run untiled or leave it at primitives");
   return *joined;
 }
 

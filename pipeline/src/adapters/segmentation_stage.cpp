@@ -15,6 +15,7 @@
 #include "slipfit/render/splat_renderer.h"
 #include "slipfit/segmentation/segmentation.h"
 #include "slipfit/segmentation/segmentation_carry_back.h"
+#include "slipfit/slippage/shape_classification.h"
 
 #include <algorithm>
 #include <array>
@@ -93,6 +94,9 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
            : !local_copy_.empty() ? "local_copy"
                                   : "";
   }
+  std::string unjoinedSetting() const override {
+    return parameters_.surfaces == SegmentSurfaces::kinematic ? "surfaces: kinematic" : "";
+  }
   std::optional<RenderRequest> picture() const override {
     if (render_.empty())
       return std::nullopt;
@@ -137,8 +141,7 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
       green[i] = c[1];
       blue[i] = c[2];
       if (label >= 0)
-        primitive[i] =
-            static_cast<std::int32_t>(result.segments[static_cast<std::size_t>(label)].fit.type);
+        primitive[i] = segmentTypeCode(result.segments[static_cast<std::size_t>(label)]);
     }
     data.setField({"label", result.labels});
     data.setField({"primitive", std::move(primitive)});
@@ -185,8 +188,8 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
     constexpr std::size_t kListed = 20;
     for (std::size_t k = 0; k < result.segments.size() && k < kListed; ++k) {
       const Segment& s = result.segments[k];
-      context.report << "  segment " << k << ": " << primitiveTypeName(s.fit.type) << ", "
-                     << s.indices.size() << " points, rms " << s.rms_distance << "\n";
+      context.report << "  segment " << k << ": " << segmentTypeName(s) << ", " << s.indices.size()
+                     << " points, rms " << s.rms_distance << "\n";
     }
     if (result.segments.size() > kListed)
       context.report << "  … and " << result.segments.size() - kListed
@@ -221,6 +224,16 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
       r.fit.max_distance = s.max_distance;
       r.fit.used_points = s.fit.used_points;  // the points the fit saw (the analysis points)
       r.slippage = s.slippage;
+      if (s.kinematic) {
+        // A kinematic segment: its class and fitted surface, as a whole-cloud kinematic verdict.
+        r.fitted = false;
+        r.kinematic = s.kinematic;
+        SlippageResult kinematic;
+        kinematic.type = slippageTypeOf(s.kinematic->surface.type);
+        kinematic.motions = 1;
+        kinematic.axis = s.kinematic->surface.axis;
+        r.slippage = kinematic;
+      }
       r.inlier_distance = result.distance;
       for (int i : s.indices)
         r.inliers += result.explains(s, pointAt(cloud, i)) ? 1 : 0;
@@ -292,11 +305,11 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
       useSensorCamera(camera, data.sensor->origin, data.sensor->orientation, x, -data.frame.shift);
     std::vector<std::uint8_t> image = renderSplats(x, rgb, nn, camera);
     if (camera.legend) {
-      std::vector<PrimitiveType> types;
+      std::vector<std::string> types;
       std::vector<std::size_t> points;
       std::size_t assigned = 0;
       for (const Segment& s : result.segments) {
-        types.push_back(s.fit.type);
+        types.emplace_back(segmentTypeName(s));
         points.push_back(s.indices.size());
         assigned += s.indices.size();
       }

@@ -150,18 +150,27 @@ std::size_t drawLegend(std::vector<std::uint8_t>& image, int width, int height,
 std::vector<LegendEntry> segmentLegend(const std::vector<PrimitiveType>& types,
                                        const std::vector<std::size_t>& points,
                                        std::size_t unassigned) {
-  if (types.size() != points.size())
+  std::vector<std::string> names;
+  names.reserve(types.size());
+  for (const PrimitiveType t : types)
+    names.emplace_back(primitiveTypeName(t));
+  return segmentLegend(names, points, unassigned);
+}
+
+std::vector<LegendEntry> segmentLegend(const std::vector<std::string>& type_names,
+                                       const std::vector<std::size_t>& points,
+                                       std::size_t unassigned) {
+  if (type_names.size() != points.size())
     throw InvalidParameterError("legend: one type and one point count per segment");
-  std::vector<std::size_t> order(types.size());
+  std::vector<std::size_t> order(type_names.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return points[a] > points[b]; });
   std::vector<LegendEntry> entries;
   entries.reserve(order.size() + 1);
   for (const std::size_t k : order)
-    entries.push_back({segmentColour(k), std::to_string(k) + " " +
-                                             std::string(primitiveTypeName(types[k])) + " " +
-                                             std::to_string(points[k])});
+    entries.push_back({segmentColour(k),
+                       std::to_string(k) + " " + type_names[k] + " " + std::to_string(points[k])});
   if (unassigned > 0)
     entries.push_back({kUnassignedColour, "- none " + std::to_string(unassigned)});
   return entries;

@@ -2,8 +2,10 @@
 #include "slipfit/core/threads.h"
 
 #include "slipfit/core/exceptions.h"
+#include "slipfit/segmentation/kinematic_merge.h"
 #include "slipfit/segmentation/segmentation_kernel.h"
 
+#include <chrono>
 #include <cmath>
 
 namespace slipfit {
@@ -23,7 +25,17 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
   kernel.setPhaseListener(on_phase);
   using Phase = SegmentationKernel::Phase;
   kernel.runPhases(Phase::estimate_scale, Phase::drop_non_surfaces);
-  return kernel.finalize();
+  SegmentationResult result = kernel.finalize();
+  if (parameters.surfaces == SegmentSurfaces::kinematic) {
+    if (on_phase)
+      on_phase("merge_kinematic_surfaces");
+    const auto start = std::chrono::steady_clock::now();
+    result.kinematic = mergeKinematicSurfaces(points, normals, hoods, result);
+    result.timings.push_back(
+        {"merge_kinematic_surfaces",
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
+  }
+  return result;
 }
 
 }  // namespace slipfit

@@ -44,8 +44,7 @@ void carrySegmentationBack(
         continue;
       if (count < seen.size())
         seen[count++] = candidate;
-      const double d =
-          distance(p, result.segments[static_cast<std::size_t>(candidate)].fit.refined);
+      const double d = distance(p, result.segments[static_cast<std::size_t>(candidate)]);
       if (d <= best) {
         best = d;
         label = candidate;
@@ -185,7 +184,7 @@ void carrySegmentationBack(
     double sum = 0.0;
     s.max_distance = 0.0;
     for (int i : s.indices) {
-      const double d = distance(points.col(i).cast<double>(), s.fit.refined);
+      const double d = distance(points.col(i).cast<double>(), s);
       sum += d * d;
       s.max_distance = std::max(s.max_distance, d);
     }

@@ -167,19 +167,6 @@ SlippageType slippageTypeOf(PrimitiveType type) {
   return SlippageType::none;
 }
 
-/// The slippage type of a kinematic surface's class.
-SlippageType slippageTypeOf(KinematicType type) {
-  switch (type) {
-    case KinematicType::revolution:
-      return SlippageType::revolution;
-    case KinematicType::extrusion:
-      return SlippageType::extrusion;
-    case KinematicType::helix:
-      return SlippageType::helix;
-  }
-  return SlippageType::none;
-}
-
 /// The start of a kinematic fit from a one-motion reading: a rotation (cone, torus, revolution),
 /// a translation (extrusion) or a screw (helix), with its axis; a point on the axis when the
 /// reading gives one, else \a fallback.
@@ -404,6 +391,18 @@ ShapeClassification classifyShape(const Eigen::Ref<const Eigen::Matrix3Xd>& poin
     out.verdict.reason = "slippage: the motions' primitive does not explain the points";
   }
   return out;
+}
+
+SlippageType slippageTypeOf(KinematicType type) {
+  switch (type) {
+    case KinematicType::revolution:
+      return SlippageType::revolution;
+    case KinematicType::extrusion:
+      return SlippageType::extrusion;
+    case KinematicType::helix:
+      return SlippageType::helix;
+  }
+  return SlippageType::none;
 }
 
 }  // namespace slipfit

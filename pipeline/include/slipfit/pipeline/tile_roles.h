@@ -36,6 +36,8 @@ class JoinedAcrossTiles {
   /// The option of an output it is asked for that a tiled run does not join (a tiled run refuses
   /// the config); empty when there is none.
   virtual std::string unjoinedOutput() const = 0;
+  /// The option set to a value a tiled run cannot join ("surfaces: kinematic"), or empty.
+  virtual std::string unjoinedSetting() const { return ""; }
 };
 
 /// A stage that analyses a sample of the cloud chosen for the whole cloud (subsample): a tiled

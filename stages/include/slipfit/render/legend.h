@@ -31,6 +31,10 @@ std::size_t drawLegend(std::vector<std::uint8_t>& image, int width, int height,
 std::vector<LegendEntry> segmentLegend(const std::vector<PrimitiveType>& types,
                                        const std::vector<std::size_t>& points,
                                        std::size_t unassigned);
+/// The same with each segment's type by name (a kinematic segment's "revolution", ...).
+std::vector<LegendEntry> segmentLegend(const std::vector<std::string>& type_names,
+                                       const std::vector<std::size_t>& points,
+                                       std::size_t unassigned);
 
 /// The rows of the pictures' legends: the 19 largest segments, then "+ N more" (a legend of every
 /// segment of a scan would cover its picture).

@@ -6,6 +6,7 @@
 
 #include "slipfit/core/angle_units.h"
 #include "slipfit/core/parameter_declaration.h"
+#include "slipfit/fitting/kinematic_fit.h"
 #include "slipfit/fitting/weighted_fit.h"
 #include "slipfit/neighborhoods/depth_quantization.h"
 #include "slipfit/neighborhoods/neighborhoods.h"
@@ -17,6 +18,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -27,6 +29,13 @@
 #include <vector>
 
 namespace slipfit {
+
+/// What segments may be: the five primitives, or also kinematic surfaces (kinematic_merge.h).
+enum class SegmentSurfaces { primitives, kinematic };
+constexpr std::array<std::pair<SegmentSurfaces, std::string_view>, 2> kSegmentSurfacesNames{{
+    {SegmentSurfaces::primitives, "primitives"},
+    {SegmentSurfaces::kinematic, "kinematic"},
+}};
 
 struct SegmentationParameters {
   /// Largest point-to-primitive distance of a member, units. Unset: 3 σ̂ + 1/20 of the median
@@ -44,6 +53,9 @@ struct SegmentationParameters {
   /// Phase 6: fillets that two planes meeting at a crease took whole are given to a cylinder of
   /// their own; false keeps sharp creases only.
   bool fillets = true;
+  /// primitives: the five primitives only; kinematic: adjacent segments that one surface of
+  /// revolution, extrusion or helix explains become one segment of it (kinematic_merge.h).
+  SegmentSurfaces surfaces = SegmentSurfaces::primitives;
   /// OpenMP threads for the fits tried in parallel (the result does not depend on them); 0 means as
   /// many as the machine has.
   int threads = 0;
@@ -76,6 +88,13 @@ struct SegmentationParameters {
                     "Adjacent segments merge when the best fit of their union has an RMS distance "
                     "at most this factor times the larger of theirs.")
               .between(1, 10));
+    visit(self.surfaces,
+          parameter("surfaces",
+                    "primitives: planes, spheres, cylinders, cones and tori; kinematic: also "
+                    "surfaces of revolution, extrusions and helices, where one explains a group "
+                    "of adjacent primitive segments that share its axis or direction better than "
+                    "they do (docs/THEORY.md §5.5)."),
+          kSegmentSurfacesNames);
   }
 
   /// Throws InvalidParameterError naming the field, its value and its declared range.
@@ -92,7 +111,30 @@ struct Segment {
   /// The slippage of the whole segment; its primitive was the second starting point of the
   /// refinement (the better of the two is kept).
   std::optional<SlippageResult> slippage;
+  /// A kinematic segment (kinematic_merge.h): the surface of revolution, extrusion or helix that
+  /// explains its points, which then count rather than `fit` (the largest member's primitive).
+  std::optional<KinematicFit> kinematic;
 };
+
+/// Distance from \a p to \a segment's surface: its kinematic surface when it has one, else its
+/// refined primitive.
+inline double distance(const Eigen::Vector3d& p, const Segment& segment) {
+  return segment.kinematic ? distance(p, segment.kinematic->surface)
+                           : distance(p, segment.fit.refined);
+}
+
+/// The type name of \a segment: its kinematic class or its primitive's type.
+inline std::string_view segmentTypeName(const Segment& segment) {
+  return segment.kinematic ? kinematicTypeName(segment.kinematic->surface.type)
+                           : primitiveTypeName(segment.fit.type);
+}
+
+/// The type code of \a segment: its primitive's PrimitiveType (0–4), or 5 + its KinematicType
+/// (5 revolution, 6 extrusion, 7 helix) — the codes of the scenes' truth_type.
+inline std::int32_t segmentTypeCode(const Segment& segment) {
+  return segment.kinematic ? 5 + static_cast<std::int32_t>(segment.kinematic->surface.type)
+                           : static_cast<std::int32_t>(segment.fit.type);
+}
 
 /// The wall time of one phase of a run (docs/THEORY.md §6; phaseName's names, then
 /// "finalize"): where the segmentation spends its time, for the report and the profile script.
@@ -117,7 +159,7 @@ struct SegmentationResult {
   }
   /// Whether \a p lies within its tolerance of \a segment's refined primitive (an inlier).
   bool explains(const Segment& segment, const Eigen::Vector3d& p) const {
-    return slipfit::distance(p, segment.fit.refined) <= tolerance(p);
+    return slipfit::distance(p, segment) <= tolerance(p);
   }
   double noise = 0.0;  ///< the noise estimate σ̂ (units)
   /// The 5th and 95th percentiles of the points' own σ (each point's tolerance follows it when
@@ -132,8 +174,9 @@ struct SegmentationResult {
   /// Regions joined to a neighbor that explains them as well as its own points (fragments of one
   /// surface, absorbFragments).
   std::size_t absorbed = 0;
-  std::size_t revised = 0;  ///< regions whose type the contested points changed
-  std::size_t fillets = 0;  ///< fillets found at creases of two planes (recoverFillets)
+  std::size_t revised = 0;    ///< regions whose type the contested points changed
+  std::size_t fillets = 0;    ///< fillets found at creases of two planes (recoverFillets)
+  std::size_t kinematic = 0;  ///< kinematic segments made (surfaces: kinematic)
   /// Regions dropped because their points fill the tolerance slab like random points (RMS
   /// distance above 0.45 ε), not a surface: a cloud of noise gives no segment.
   std::size_t volumes = 0;

@@ -86,6 +86,9 @@ ShapeClassification classifyShape(const Eigen::Ref<const Eigen::Matrix3Xd>& poin
                                   const Eigen::Ref<const Eigen::VectorXd>& weights,
                                   const SlippageOptions& options = {});
 
+/// The slippage type of a kinematic surface's class (revolution, extrusion, helix).
+SlippageType slippageTypeOf(KinematicType type);
+
 /// Number of rigid motions that slide a primitive of \a type along itself: 3 (plane, sphere), 2
 /// (cylinder), 1 (cone, torus).
 int motionCount(PrimitiveType type);
