@@ -1,6 +1,7 @@
 // configs/kinematic_scene.yaml: the segmentation into kinematic surfaces on the generated scenes
 // of kinematic_scene_sampler.h, scored against their truth (issue 37's targets: IoU ≥ 0.90 of the
 // kinematic segments, the class right, the axis within 1°, the pitch within 2 %).
+#include "int_field.h"
 #include "run_cli.h"
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/sampling/kinematic_scene_sampler.h"
@@ -15,14 +16,6 @@
 
 namespace slipfit::testing {
 namespace {
-
-std::vector<std::int32_t> intField(const pipeline::PointData& data, const std::string& name) {
-  const std::vector<double> v = data.numericField(name);
-  std::vector<std::int32_t> out(v.size());
-  for (std::size_t i = 0; i < v.size(); ++i)
-    out[i] = static_cast<std::int32_t>(v[i]);
-  return out;
-}
 
 struct Scored {
   SegmentationScore score;

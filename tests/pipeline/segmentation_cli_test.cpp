@@ -1,6 +1,7 @@
 // configs/demo.yaml (the whole pipeline on sample_clouds/scene.ply): segments, types, the PLY
 // fields and the PNG, scored against the true labels that the shipped scene carries; and
 // byte-identical outputs across runs and thread counts.
+#include "int_field.h"
 #include "run_cli.h"
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/segmentation/segmentation_metrics.h"
@@ -21,14 +22,6 @@ namespace slipfit::testing {
 namespace {
 
 using ::testing::HasSubstr;
-
-std::vector<std::int32_t> intField(const pipeline::PointData& data, const std::string& name) {
-  const std::vector<double> v = data.numericField(name);
-  std::vector<std::int32_t> out(v.size());
-  for (std::size_t i = 0; i < v.size(); ++i)
-    out[i] = static_cast<std::int32_t>(v[i]);
-  return out;
-}
 
 TEST(SegmentationCli, DemoFindsTheSceneAndWritesEveryOutput) {
   const std::string out = scratchDir("demo_segments");
