@@ -61,9 +61,10 @@ struct ProfiledResiduals {
   }
   void residuals(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
     const KinematicSurface s = decode(x);
+    const KinematicProjector surface(s);
     f.resize(points->cols());
     for (Eigen::Index i = 0; i < points->cols(); ++i)
-      f[i] = (*sqrt_w)[i] * distance(points->col(i), s);
+      f[i] = (*sqrt_w)[i] * surface.distance(points->col(i));
   }
   void normalEquations(const Eigen::VectorXd& x, const Eigen::VectorXd& f, Eigen::MatrixXd& a,
                        Eigen::VectorXd& g) const {
@@ -131,9 +132,10 @@ bool fitProfile(KinematicSurface& s, const Eigen::Matrix3Xd& points, double nois
 
 double weightedRms(const KinematicSurface& s, const Eigen::Matrix3Xd& points,
                    const Eigen::VectorXd& w) {
+  const KinematicProjector surface(s);
   double sum = 0.0;
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
-    const double d = distance(points.col(i), s);
+    const double d = surface.distance(points.col(i));
     sum += w[i] * d * d;
   }
   return std::sqrt(sum / w.sum());

@@ -38,15 +38,31 @@ Eigen::Vector2d profileCoordinates(const KinematicSurface& s, const Eigen::Vecto
   return {h, radial.norm()};
 }
 
+namespace {
+
+/// The helical metric's scale of the first profile coordinate at \a q (1 but for a helix): the
+/// unscrewed height of a point moved by δ along a helicoid's normal at radius ρ changes by
+/// δ √(ρ² + p²) / ρ, scaled back by ρ / √(ρ² + p²).
+double firstScale(const KinematicSurface& s, const Eigen::Vector2d& q) {
+  if (s.type != KinematicType::helix)
+    return 1.0;
+  const double rho = q.y();
+  return rho / std::sqrt(rho * rho + s.pitch * s.pitch);
+}
+
+}  // namespace
+
 ProfileProjection projectOnProfile(const KinematicSurface& s, const Eigen::Vector3d& p) {
   const Eigen::Vector2d q = profileCoordinates(s, p);
-  if (s.type != KinematicType::helix)
-    return projectOnProfile(s.profile, q);
-  // The unscrewed height of a point moved by δ along a helicoid's normal at radius ρ changes by
-  // δ √(ρ² + p²) / ρ: scaled back by ρ / √(ρ² + p²).
-  const double rho = q.y();
-  const double scale = rho / std::sqrt(rho * rho + s.pitch * s.pitch);
-  return projectOnProfile(s.profile, q, scale, s.period());
+  return projectOnProfile(s.profile, q, firstScale(s, q), s.period());
+}
+
+KinematicProjector::KinematicProjector(const KinematicSurface& s)
+    : surface_(&s), index_(s.profile, s.period()) {}
+
+ProfileProjection KinematicProjector::project(const Eigen::Vector3d& p) const {
+  const Eigen::Vector2d q = profileCoordinates(*surface_, p);
+  return index_.project(q, firstScale(*surface_, q));
 }
 
 double distance(const Eigen::Vector3d& p, const KinematicSurface& s) {

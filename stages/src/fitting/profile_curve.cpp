@@ -387,6 +387,146 @@ ProfileProjection projectOnProfile(const ProfileCurve& curve, const Eigen::Vecto
   return best;
 }
 
+struct ProfileIndex::Best {
+  double d2 = std::numeric_limits<double>::infinity();
+  int image = 0;
+  std::size_t segment = 0;
+  double t = 0.0;
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();
+};
+
+ProfileIndex::ProfileIndex(const ProfileCurve& curve, double period)
+    : curve_(&curve), period_(period) {
+  const std::size_t v = curve.vertices.size();
+  if (v < 2)
+    return;
+  Eigen::Vector2d lo = curve.vertices.front(), hi = lo;
+  for (const Eigen::Vector2d& x : curve.vertices) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const std::size_t count = curve.segmentCount();
+  double length = 0.0;
+  for (std::size_t j = 0; j < count; ++j)
+    length += (curve.vertices[(j + 1) % v] - curve.vertices[j]).norm();
+  const double extent = (hi - lo).maxCoeff();
+  cell_ = std::max({length / static_cast<double>(count), extent / 128.0, 1e-300});
+  origin_ = lo;
+  nx_ = static_cast<int>(std::floor((hi.x() - lo.x()) / cell_)) + 1;
+  ny_ = static_cast<int>(std::floor((hi.y() - lo.y()) / cell_)) + 1;
+  const auto cellOf = [&](const Eigen::Vector2d& x) {
+    return Eigen::Vector2i(
+        std::clamp(static_cast<int>(std::floor((x.x() - origin_.x()) / cell_)), 0, nx_ - 1),
+        std::clamp(static_cast<int>(std::floor((x.y() - origin_.y()) / cell_)), 0, ny_ - 1));
+  };
+  // Two passes over the segments' cell boxes: the counts, then the lists.
+  offsets_.assign(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_) + 1, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<std::size_t> fill;
+    if (pass == 1) {
+      for (std::size_t c = 1; c < offsets_.size(); ++c)
+        offsets_[c] += offsets_[c - 1];
+      segments_.resize(offsets_.back());
+      fill.assign(offsets_.begin(), offsets_.end() - 1);
+    }
+    for (std::size_t j = 0; j < count; ++j) {
+      const Eigen::Vector2d& a = curve.vertices[j];
+      const Eigen::Vector2d& b = curve.vertices[(j + 1) % v];
+      const Eigen::Vector2i c0 = cellOf(a.cwiseMin(b)), c1 = cellOf(a.cwiseMax(b));
+      for (int iy = c0.y(); iy <= c1.y(); ++iy)
+        for (int ix = c0.x(); ix <= c1.x(); ++ix) {
+          const std::size_t c = static_cast<std::size_t>(iy) * static_cast<std::size_t>(nx_) +
+                                static_cast<std::size_t>(ix);
+          if (pass == 0)
+            ++offsets_[c + 1];
+          else
+            segments_[fill[c]++] = j;
+        }
+    }
+  }
+}
+
+void ProfileIndex::search(const Eigen::Vector2d& p, double s, int image, Best& best) const {
+  const std::size_t v = curve_->vertices.size();
+  // Segment j against the best so far (ties: the lower image, then the lower segment).
+  const auto consider = [&](std::size_t j) {
+    const Eigen::Vector2d& a = curve_->vertices[j];
+    const Eigen::Vector2d& b = curve_->vertices[(j + 1) % v];
+    double t = 0.0;
+    const double d2 = segmentDistance2(p, a, b, s, &t);
+    if (d2 < best.d2 ||
+        (d2 == best.d2 && (image < best.image || (image == best.image && j < best.segment)))) {
+      const Eigen::Vector2d at = (1.0 - t) * a + t * b;
+      best = {d2, image, j, t, Eigen::Vector2d(s * (p.x() - at.x()), p.y() - at.y())};
+    }
+  };
+  // The grid's box: nothing in it is nearer than s times the distance to it (s ≤ 1). A query
+  // further than kRings cells from it scans every segment: rings would be mostly empty.
+  constexpr int kRings = 6;
+  const Eigen::Vector2d far_corner = origin_ + cell_ * Eigen::Vector2d(nx_, ny_);
+  const double to_box = (p - p.cwiseMax(origin_).cwiseMin(far_corner)).norm();
+  if (s * to_box * s * to_box > best.d2)
+    return;
+  if (to_box > kRings * cell_) {
+    for (std::size_t j = 0; j < curve_->segmentCount(); ++j)
+      consider(j);
+    return;
+  }
+  const int cx =
+      std::clamp(static_cast<int>(std::floor((p.x() - origin_.x()) / cell_)), 0, nx_ - 1);
+  const int cy =
+      std::clamp(static_cast<int>(std::floor((p.y() - origin_.y()) / cell_)), 0, ny_ - 1);
+  const auto visit = [&](int ix, int iy) {
+    const std::size_t c =
+        static_cast<std::size_t>(iy) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(ix);
+    for (std::size_t k = offsets_[c]; k < offsets_[c + 1]; ++k)
+      consider(segments_[k]);
+  };
+  // Ring r holds the cells r steps from the query's (clamped) cell; none of them is nearer than
+  // s (r − 1) cells: the query's projection onto the box lies in its cell. Still open after
+  // kRings rings (a small scale), the rest is scanned whole.
+  const int rings = std::max(nx_, ny_);
+  for (int r = 0; r <= rings; ++r) {
+    if (r >= 1) {
+      const double bound = s * (r - 1) * cell_;
+      if (bound * bound > best.d2)
+        return;
+    }
+    if (r > kRings) {
+      for (std::size_t j = 0; j < curve_->segmentCount(); ++j)
+        consider(j);
+      return;
+    }
+    for (int iy = cy - r; iy <= cy + r; ++iy) {
+      if (iy < 0 || iy >= ny_)
+        continue;
+      const bool edge = iy == cy - r || iy == cy + r;
+      for (int ix = cx - r; ix <= cx + r; ix += (edge || r == 0) ? 1 : 2 * r)
+        if (ix >= 0 && ix < nx_)
+          visit(ix, iy);
+    }
+  }
+}
+
+ProfileProjection ProfileIndex::project(const Eigen::Vector2d& q, double first_scale) const {
+  if (offsets_.empty())
+    return projectOnProfile(*curve_, q, first_scale, period_);
+  Best best;
+  best.image = 2;
+  // The query itself first: its images a period away are nearer only at the strip's ends.
+  search(q, first_scale, 0, best);
+  if (period_ > 0.0)
+    for (const int image : {-1, 1})
+      search(Eigen::Vector2d(q.x() + image * period_, q.y()), first_scale, image, best);
+  ProfileProjection out;
+  out.segment = best.segment;
+  out.t = best.t;
+  out.distance = std::sqrt(best.d2);
+  if (out.distance > 0.0)
+    out.unit = best.offset / out.distance;
+  return out;
+}
+
 double profileDistance(const ProfileCurve& curve, const Eigen::Vector2d& q, double first_scale,
                        double period) {
   return projectOnProfile(curve, q, first_scale, period).distance;

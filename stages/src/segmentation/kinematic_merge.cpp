@@ -8,6 +8,7 @@
 #include <map>
 #include <numeric>
 #include <optional>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -129,12 +130,13 @@ std::optional<KinematicFit> classifyGroup(const Eigen::Ref<const Eigen::Matrix3X
   return std::move(c.kinematic);
 }
 
-/// Adds to \a segment the unassigned points next to it that its kinematic surface explains, until
-/// none is left.
+/// Adds to \a segment the unassigned points next to it that its kinematic surface explains, from
+/// the points of \a frontier outwards, until none is left.
 void absorbExplained(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                      const Neighborhoods& neighborhoods, const SegmentationResult& result,
-                     std::vector<std::int32_t>& labels, std::int32_t label, Segment& segment) {
-  std::vector<int> frontier = segment.indices;
+                     std::vector<std::int32_t>& labels, std::int32_t label, Segment& segment,
+                     std::vector<int> frontier) {
+  const KinematicProjector surface(segment.kinematic->surface);
   while (!frontier.empty()) {
     std::vector<int> next;
     for (const int i : frontier)
@@ -143,7 +145,7 @@ void absorbExplained(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
         if (labels[u] != -1)
           continue;
         const Eigen::Vector3d p = points.col(j);
-        if (distance(p, segment) <= result.tolerance(p)) {
+        if (surface.distance(p) <= result.tolerance(p)) {
           labels[u] = label;
           next.push_back(static_cast<int>(j));
         }
@@ -159,29 +161,38 @@ void absorbExplained(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
 /// factor (1.5) over the fragment's own (or the noise, when that is lower).
 bool explainsFragment(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                       const SegmentationResult& result, const Segment& k, const Segment& f) {
-  std::size_t within = 0;
+  const KinematicProjector surface(k.kinematic->surface);
+  const double n = static_cast<double>(f.indices.size());
+  std::size_t beyond = 0;
   double sum = 0.0;
   for (const int i : f.indices) {
     const Eigen::Vector3d p = points.col(i);
-    const double d = distance(p, k);
-    within += d <= result.tolerance(p) ? 1 : 0;
+    const double d = surface.distance(p);
+    beyond += d <= result.tolerance(p) ? 0 : 1;
+    if (beyond > 0.1 * n)
+      return false;  // a plate next to a turned part is over after a few of its points
     sum += d * d;
   }
-  const double n = static_cast<double>(f.indices.size());
+  const std::size_t within = f.indices.size() - beyond;
   return within >= 0.9 * n && std::sqrt(sum / n) <= 1.5 * std::max(f.rms_distance, result.noise);
 }
 
 /// Gives each kinematic segment the adjacent segments it explains as well as they explain
 /// themselves (a thread's rings that did not share an axis closely enough to be grouped, the
-/// flank a plane took, a smaller kinematic segment of the same surface), then the unassigned points next to those, until none is left. The
-/// fragments given away are left empty.
+/// flank a plane took, a smaller kinematic segment of the same surface), then the unassigned points
+/// next to those, until none is left. The fragments given away are left empty.
 void absorbFragments(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                      const Neighborhoods& neighborhoods, const SegmentationResult& result,
                      std::vector<std::int32_t>& labels, std::vector<Segment>& all) {
+  // A surface keeps explaining what it explained, and keeps failing what it failed: each pair is
+  // judged once.
+  std::set<std::pair<std::size_t, std::size_t>> judged;
   bool changed = true;
   while (changed) {
     changed = false;
     for (const auto& [a, b] : adjacentPairs(neighborhoods, labels)) {
+      if (!judged.insert({a, b}).second)
+        continue;
       const bool ka = all[a].kinematic.has_value(), kb = all[b].kinematic.has_value();
       if ((!ka && !kb) || all[a].indices.empty() || all[b].indices.empty())
         continue;
@@ -193,8 +204,10 @@ void absorbFragments(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
       for (const int i : all[f].indices)
         labels[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(k);
       all[k].indices.insert(all[k].indices.end(), all[f].indices.begin(), all[f].indices.end());
+      std::vector<int> taken = std::move(all[f].indices);
       all[f].indices.clear();
-      absorbExplained(points, neighborhoods, result, labels, static_cast<std::int32_t>(k), all[k]);
+      absorbExplained(points, neighborhoods, result, labels, static_cast<std::int32_t>(k), all[k],
+                      std::move(taken));
       changed = true;
       break;  // the adjacency has changed
     }
@@ -310,7 +323,8 @@ std::size_t mergeKinematicSurfaces(const Eigen::Ref<const Eigen::Matrix3Xd>& poi
       labels[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(k);
   for (std::size_t k = 0; k < all.size(); ++k)
     if (all[k].kinematic)
-      absorbExplained(points, neighborhoods, result, labels, static_cast<std::int32_t>(k), all[k]);
+      absorbExplained(points, neighborhoods, result, labels, static_cast<std::int32_t>(k), all[k],
+                      all[k].indices);
   absorbFragments(points, neighborhoods, result, labels, all);
   // Largest first (ties: the lowest first index), and the distances of the members.
   std::vector<std::size_t> order(all.size());
@@ -325,11 +339,15 @@ std::size_t mergeKinematicSurfaces(const Eigen::Ref<const Eigen::Matrix3Xd>& poi
     result.segments.push_back(std::move(all[k]));
   for (std::size_t k = 0; k < result.segments.size(); ++k) {
     Segment& s = result.segments[k];
+    std::optional<KinematicProjector> surface;
+    if (s.kinematic)
+      surface.emplace(s.kinematic->surface);
     double sum = 0.0;
     s.max_distance = 0.0;
     for (const int i : s.indices) {
       labels[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(k);
-      const double d = distance(Eigen::Vector3d(points.col(i)), s);
+      const Eigen::Vector3d p = points.col(i);
+      const double d = surface ? surface->distance(p) : distance(p, s);
       sum += d * d;
       s.max_distance = std::max(s.max_distance, d);
     }

@@ -116,5 +116,58 @@ TEST(ProfileCurve, DistanceScalesTheFirstCoordinateAndWrapsThePeriod) {
   EXPECT_DOUBLE_EQ(profileDistance(c, Eigen::Vector2d(0.0, 1.5)), 0.5);
 }
 
+// The index answers what the scan of every segment answers, bit for bit (distance, segment,
+// parameter): on an open zigzag of 200 segments, a closed wavy ring of 300, a thread's profile on
+// a periodic strip with the helical metric's scale 0.3–1, and a curve of one segment; queries near
+// the curve, far from it and outside its box.
+TEST(ProfileIndex, ProjectsAsTheScanOfEverySegment) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  struct Case {
+    ProfileCurve curve;
+    double period = 0.0;
+    double min_scale = 1.0;
+  };
+  std::vector<Case> cases(4);
+  for (int i = 0; i <= 200; ++i)
+    cases[0].curve.vertices.emplace_back(0.01 * i, 0.05 * ((i % 7) - 3) + 0.3 * unit(rng) * 0.1);
+  cases[1].curve.closed = true;
+  for (int i = 0; i < 300; ++i) {
+    const double a = 2.0 * M_PI * i / 300.0, r = 1.0 + 0.1 * std::sin(7.0 * a);
+    cases[1].curve.vertices.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  const double period = 0.06;
+  for (const auto& [u, rho] :
+       {std::pair{0.0, 0.1}, {0.15, 0.1}, {0.4, 0.12}, {0.6, 0.12}, {0.85, 0.1}, {1.0, 0.1}})
+    cases[2].curve.vertices.emplace_back(u * period, rho);
+  cases[2].period = period;
+  cases[2].min_scale = 0.3;
+  cases[3].curve.vertices = {{0.0, 0.0}, {1.0, 0.5}};
+  for (const Case& c : cases) {
+    const ProfileIndex index(c.curve, c.period);
+    Eigen::Vector2d lo = c.curve.vertices.front(), hi = lo;
+    for (const Eigen::Vector2d& v : c.curve.vertices) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    const Eigen::Vector2d size = (hi - lo).cwiseMax(Eigen::Vector2d::Constant(0.05));
+    for (int k = 0; k < 3000; ++k) {
+      // Near the curve (a vertex plus a little), in the box, or up to two boxes away.
+      const Eigen::Vector2d& v = c.curve.vertices[static_cast<std::size_t>(
+          unit(rng) * static_cast<double>(c.curve.vertices.size() - 1))];
+      const double spread = k % 3 == 0 ? 0.01 : k % 3 == 1 ? 0.5 : 2.0;
+      const Eigen::Vector2d q =
+          v + spread * Eigen::Vector2d((unit(rng) - 0.5) * size.x(), (unit(rng) - 0.5) * size.y());
+      const double scale = c.min_scale + (1.0 - c.min_scale) * unit(rng);
+      const ProfileProjection a = index.project(q, scale);
+      const ProfileProjection b = projectOnProfile(c.curve, q, scale, c.period);
+      ASSERT_EQ(a.distance, b.distance) << k;
+      ASSERT_EQ(a.segment, b.segment) << k;
+      ASSERT_EQ(a.t, b.t) << k;
+      ASSERT_EQ(a.unit, b.unit) << k;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace slipfit

@@ -58,6 +58,20 @@ ProfileProjection projectOnProfile(const KinematicSurface& s, const Eigen::Vecto
 /// Distance from \a p to the surface (see the file comment); infinity for an empty profile.
 double distance(const Eigen::Vector3d& p, const KinematicSurface& s);
 
+/// projectOnProfile(s, p) and distance(p, s) for many points on one surface, through a
+/// ProfileIndex of its profile: the same values. Keeps a pointer to \a s, which must outlive it
+/// unchanged.
+class KinematicProjector {
+ public:
+  explicit KinematicProjector(const KinematicSurface& s);
+  ProfileProjection project(const Eigen::Vector3d& p) const;
+  double distance(const Eigen::Vector3d& p) const { return project(p).distance; }
+
+ private:
+  const KinematicSurface* surface_;
+  ProfileIndex index_;
+};
+
 /// Free parameters: the motion's (revolution 4: the axis direction and its foot; extrusion 2: the
 /// direction, the section's placement being the profile's; helix 5: those of the revolution and
 /// the pitch) plus the profile's 2 per vertex.

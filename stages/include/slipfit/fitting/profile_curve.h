@@ -44,6 +44,29 @@ struct ProfileProjection {
 ProfileProjection projectOnProfile(const ProfileCurve& curve, const Eigen::Vector2d& q,
                                    double first_scale = 1.0, double period = 0.0);
 
+/// projectOnProfile for many points on one curve: the segments binned on a uniform grid over the
+/// curve's box (cells of at least the mean segment length and 1/128 of the box), searched ring by
+/// ring from the query's cell until the ring's least possible distance, first_scale × (ring − 1) ×
+/// cell, passes the best found. Exact: the same projection as projectOnProfile (ties go to the
+/// lower image, then the lower segment, as there), in O(1) segments a query for a point near the
+/// curve instead of all of them. \a first_scale ≤ 1 (the helical metric's is).
+class ProfileIndex {
+ public:
+  explicit ProfileIndex(const ProfileCurve& curve, double period = 0.0);
+  ProfileProjection project(const Eigen::Vector2d& q, double first_scale = 1.0) const;
+
+ private:
+  struct Best;
+  void search(const Eigen::Vector2d& p, double first_scale, int image, Best& best) const;
+
+  const ProfileCurve* curve_;
+  double period_ = 0.0;
+  Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
+  double cell_ = 1.0;
+  int nx_ = 0, ny_ = 0;
+  std::vector<std::size_t> offsets_, segments_;  ///< per cell (CSR), the segments crossing it
+};
+
 /// One least-squares update of \a curve's vertices to the points \a q (each point at its nearest
 /// segment's parameter; a light second-difference penalty; a vertex where the polyline turns back
 /// dropped): step 3 of fitProfileCurve, for a curve fitted before to points that have moved a
