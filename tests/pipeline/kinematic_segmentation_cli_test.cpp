@@ -118,14 +118,18 @@ TEST(KinematicSegmentation, TurnedAndExtrudedPartsAreOneSegmentEach) {
       EXPECT_LT(primitives.score.iou[t], 0.9) << "truth " << t;
 }
 
-// 100,000 points, seeds 1, 3 and 7: every true surface at IoU 0.85 or more with its class (the
-// measured: turned parts 0.989–0.993, extrusions 0.985–0.994, threads 0.899–0.993, the rest
+// 100,000 points, seeds 1, 2, 3 and 7: every true surface at IoU 0.85 or more with its class (the
+// measured: turned parts 0.989–0.993, extrusions 0.952–0.994, threads 0.983–0.993, the rest
 // 0.89–0.997), the kinematic ones with the axis within 1° and the thread's pitch within 2 %.
-// Seeds 2, 4, 5 and 6 are not there yet: a thread in two to five helix pieces (IoU 0.48–0.66) or
-// in rings (seed 6), a turned part at 0.40 (seed 5).
+// Seeds 4, 5, 6, 8 and 10 are not there yet: a thread in pieces (IoU 0.28–0.66) or in rings
+// (seeds 6, 10), a turned part at 0.40 (seed 5).
 TEST(KinematicSegmentation, ScenesOfTurnedExtrudedAndThreadedParts) {
-  for (const std::uint64_t seed : {1, 3, 7})
+  for (const std::uint64_t seed : {1, 2, 3, 7})
     expectFound(seed, 100000, run(seed, 100000, "kinematic"), 0.85, true);
+  // Seed 10: the turned part's group took its flat top (a surface of revolution too) until a
+  // member a plane across the axis explains was put back: the top a plane at 0.980, the part 0.993
+  // (they were 0.54 and 0.85). Its thread stays in rings.
+  expectFound(10, 100000, run(10, 100000, "kinematic"), 0.85, false);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "slipfit/segmentation/kinematic_merge.h"
 
 #include "slipfit/core/angle_units.h"
+#include "slipfit/fitting/weighted_fit.h"
 #include "slipfit/slippage/shape_classification.h"
 
 #include <algorithm>
@@ -130,6 +131,33 @@ std::optional<KinematicFit> classifyGroup(const Eigen::Ref<const Eigen::Matrix3X
   return std::move(c.kinematic);
 }
 
+/// The members of \a group but the caps of a surface of revolution or a helix \a fit: segments a
+/// plane across the axis (its normal within kAxisAngle of it) explains as well as their own
+/// primitive does (RMS at most 1.5 × theirs or the noise). A flat end is a surface of revolution
+/// too, and the classification of the group then takes it; it is a plane.
+std::vector<std::size_t> withoutCaps(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                                     const SegmentationResult& result,
+                                     const std::vector<std::size_t>& group,
+                                     const KinematicFit& fit) {
+  if (fit.surface.type == KinematicType::extrusion)
+    return group;
+  std::vector<std::size_t> kept;
+  for (const std::size_t k : group) {
+    const Segment& s = result.segments[k];
+    const Eigen::Matrix3Xd x = points(Eigen::all, s.indices);
+    const FitResult plane = fitPrimitive(PrimitiveType::plane, x, Eigen::Matrix3Xd(3, 0),
+                                         Eigen::VectorXd::Ones(x.cols()));
+    const auto* p = std::get_if<Plane>(&plane.refined);
+    const bool cap =
+        plane.ok() && p &&
+        std::abs(p->normal.normalized().dot(fit.surface.axis)) >= std::cos(kAxisAngle) &&
+        plane.rms_distance <= 1.5 * std::max(s.rms_distance, result.noise);
+    if (!cap)
+      kept.push_back(k);
+  }
+  return kept;
+}
+
 /// Adds to \a segment the unassigned points next to it that its kinematic surface explains, from
 /// the points of \a frontier outwards, until none is left.
 void absorbExplained(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
@@ -177,11 +205,30 @@ bool explainsFragment(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
   return within >= 0.9 * n && std::sqrt(sum / n) <= 1.5 * std::max(f.rms_distance, result.noise);
 }
 
+/// Whether segment \a f could be a stretch of \a surface that its profile does not reach: a
+/// kinematic segment of the same class on a parallel axis, or a cylinder, cone or torus whose
+/// axis is the surface's (within kAxisAngle and \a reach), or a sphere centred on it. Extrusions
+/// take no primitive this way (parallel cylinders are not pieces of one section).
+bool sharesAxis(const KinematicSurface& surface, const Segment& f, double reach) {
+  if (f.kinematic)
+    return f.kinematic->surface.type == surface.type &&
+           parallel(f.kinematic->surface.axis, surface.axis);
+  if (surface.type == KinematicType::extrusion)
+    return false;
+  const MotionHint h = hintOf(f.fit.refined);
+  if (h.kind == MotionHint::line)
+    return parallel(h.axis, surface.axis) && offLine(h.point, surface.point, surface.axis) <= reach;
+  if (h.kind == MotionHint::centre)
+    return offLine(h.point, surface.point, surface.axis) <= reach;
+  return false;
+}
+
 /// Gives each kinematic segment the adjacent segments it explains as well as they explain
 /// themselves (a thread's rings that did not share an axis closely enough to be grouped, the
 /// flank a plane took, a smaller kinematic segment of the same surface), then the unassigned points
 /// next to those, until none is left. The fragments given away are left empty.
 void absorbFragments(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                     const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
                      const Neighborhoods& neighborhoods, const SegmentationResult& result,
                      std::vector<std::int32_t>& labels, std::vector<Segment>& all) {
   // A surface keeps explaining what it explained, and keeps failing what it failed: each pair is
@@ -199,13 +246,34 @@ void absorbFragments(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
       // Two kinematic segments (a thread grouped in two stretches): the larger takes the other.
       const bool a_takes = ka && (!kb || all[a].indices.size() >= all[b].indices.size());
       const std::size_t k = a_takes ? a : b, f = a_takes ? b : a;
-      if (!explainsFragment(points, result, all[k], all[f]))
-        continue;
+      std::optional<KinematicFit> joint;
+      if (!explainsFragment(points, result, all[k], all[f])) {
+        // Two stretches of one surface of the same class on one axis, each with a profile of
+        // its own heights (a turned part grouped in two): one surface for both, if one explains
+        // them.
+        // So for a primitive piece on the axis at heights the profile does not reach (a band of
+        // a turned part that its own group did not take).
+        const KinematicSurface& surface = all[k].kinematic->surface;
+        if (!sharesAxis(surface, all[f], 10.0 * result.distance))
+          continue;
+        std::vector<int> both = all[k].indices;
+        both.insert(both.end(), all[f].indices.begin(), all[f].indices.end());
+        std::sort(both.begin(), both.end());
+        joint = classifyGroup(points, normals, both);
+        if (!joint || joint->surface.type != all[k].kinematic->surface.type)
+          continue;
+      }
       for (const int i : all[f].indices)
         labels[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(k);
       all[k].indices.insert(all[k].indices.end(), all[f].indices.begin(), all[f].indices.end());
       std::vector<int> taken = std::move(all[f].indices);
       all[f].indices.clear();
+      if (joint) {
+        // A new surface: what it explains is to be judged again, from all its points.
+        all[k].kinematic = std::move(joint);
+        judged.clear();
+        taken = all[k].indices;
+      }
       absorbExplained(points, neighborhoods, result, labels, static_cast<std::int32_t>(k), all[k],
                       std::move(taken));
       changed = true;
@@ -279,25 +347,41 @@ std::size_t mergeKinematicSurfaces(const Eigen::Ref<const Eigen::Matrix3Xd>& poi
 
   std::vector<Segment> kept, made;
   std::vector<char> used(count, 0);
-  for (const auto& [root, group] : members) {
-    // A group of one, or of planes alone, stays as it is.
-    const bool curved = std::any_of(group.begin(), group.end(), [&](std::size_t k) {
-      return hints[k].kind == MotionHint::line;
-    });
-    if (group.size() < 2 || !curved)
-      continue;
+  for (const auto& [root, members_of] : members) {
+    std::vector<std::size_t> group = members_of;
+    std::optional<KinematicFit> fit;
     std::vector<int> indices;
-    std::size_t largest = group.front();
-    for (const std::size_t k : group) {
-      const auto& idx = result.segments[k].indices;
-      indices.insert(indices.end(), idx.begin(), idx.end());
-      if (idx.size() > result.segments[largest].indices.size())
-        largest = k;
+    // Classified, then again without the caps a surface of revolution or a helix took: the
+    // simplest model first keeps them planes.
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      // A group of one, or of planes alone, stays as it is.
+      const bool curved = std::any_of(group.begin(), group.end(), [&](std::size_t k) {
+        return hints[k].kind == MotionHint::line;
+      });
+      if (group.size() < 2 || !curved) {
+        fit.reset();
+        break;
+      }
+      indices.clear();
+      for (const std::size_t k : group) {
+        const auto& idx = result.segments[k].indices;
+        indices.insert(indices.end(), idx.begin(), idx.end());
+      }
+      std::sort(indices.begin(), indices.end());
+      fit = classifyGroup(points, normals, indices);
+      if (!fit || attempt == 1)
+        break;
+      const std::vector<std::size_t> kept_members = withoutCaps(points, result, group, *fit);
+      if (kept_members.size() == group.size())
+        break;
+      group = kept_members;
     }
-    std::sort(indices.begin(), indices.end());
-    std::optional<KinematicFit> fit = classifyGroup(points, normals, indices);
     if (!fit)
       continue;
+    std::size_t largest = group.front();
+    for (const std::size_t k : group)
+      if (result.segments[k].indices.size() > result.segments[largest].indices.size())
+        largest = k;
     Segment s = result.segments[largest];
     s.indices = std::move(indices);
     s.kinematic = std::move(fit);
@@ -325,7 +409,7 @@ std::size_t mergeKinematicSurfaces(const Eigen::Ref<const Eigen::Matrix3Xd>& poi
     if (all[k].kinematic)
       absorbExplained(points, neighborhoods, result, labels, static_cast<std::int32_t>(k), all[k],
                       all[k].indices);
-  absorbFragments(points, neighborhoods, result, labels, all);
+  absorbFragments(points, normals, neighborhoods, result, labels, all);
   // Largest first (ties: the lowest first index), and the distances of the members.
   std::vector<std::size_t> order(all.size());
   std::iota(order.begin(), order.end(), 0);

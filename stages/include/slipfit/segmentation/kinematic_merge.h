@@ -6,10 +6,12 @@
 /// cloud (shape_classification.h). A group becomes one kinematic segment when a surface of
 /// revolution, an extrusion or a helix with its fitted profile explains its points and beats the
 /// primitives by BIC; otherwise its segments stay as they are: the simplest adequate model first.
-/// Planes are never grouped (a plate and the turned part on it are one surface of revolution, and
-/// the plate is a plane). The kinematic segment then takes the adjacent segments its surface
-/// explains as well as their own primitives do, and the unassigned points next to it that it
-/// explains within the segmentation's tolerance. docs/THEORY.md §5.5.
+/// A plane joins a group only along its axis and when no larger than four times its curved points
+/// (a plate and the turned part on it are one surface of revolution, and the plate is a plane);
+/// a member that a plane across the axis explains (a flat top) is put back. The kinematic segment
+/// then takes the adjacent segments its surface explains as well as their own primitives do,
+/// the pieces on its axis whose union with it is again of its class, and the unassigned points
+/// next to it that it explains within the segmentation's tolerance. docs/THEORY.md §5.5.
 
 #include "slipfit/neighborhoods/neighborhoods.h"
 #include "slipfit/segmentation/segmentation.h"
