@@ -5,6 +5,8 @@
 #include "slipfit/core/name_table.h"
 #include "slipfit/sampling/motion_surface_sampler.h"
 
+#include "motion_surface_types.h"
+
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
@@ -63,29 +65,21 @@ double offLine(const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
 // √(points per vertex) added in quadrature).
 TEST(KinematicFit, EachOneMotionSurfaceIsFittedAtItsNoiseWithItsAxis) {
   constexpr double kSigma = 0.01;
-  const struct {
-    MotionSurface surface;
-    KinematicType type;
-  } cases[] = {{MotionSurface::revolution, KinematicType::revolution},
-               {MotionSurface::extrusion, KinematicType::extrusion},
-               {MotionSurface::open_extrusion, KinematicType::extrusion},
-               {MotionSurface::helix, KinematicType::helix},
-               {MotionSurface::twisted_column, KinematicType::helix}};
-  for (const auto& c : cases)
+  for (const auto& [surface, surface_name] : kMotionSurfaceNames)
     for (std::uint64_t seed = 1; seed <= 2; ++seed) {
-      const Sample s = sample(c.surface, kSigma, seed);
-      const KinematicFit fit =
-          fitKinematicSurface(offStart(s, c.type, 1.5 * kDegree, 0.03), s.points,
-                              Eigen::VectorXd::Ones(s.points.cols()), kSigma);
-      const std::string name(nameIn(kMotionSurfaceNames, c.surface));
+      const KinematicType type = testing::kinematicTypeOf(surface);
+      const Sample s = sample(surface, kSigma, seed);
+      const KinematicFit fit = fitKinematicSurface(offStart(s, type, 1.5 * kDegree, 0.03), s.points,
+                                                   Eigen::VectorXd::Ones(s.points.cols()), kSigma);
+      const std::string name(surface_name);
       ASSERT_TRUE(fit.ok()) << name << ": " << fit.reason;
-      EXPECT_EQ(fit.surface.type, c.type);
+      EXPECT_EQ(fit.surface.type, type);
       EXPECT_LE(angleBetweenLines(fit.surface.axis, s.m.axis), 1.0 * kDegree)
           << name << " seed " << seed;
-      if (c.type != KinematicType::extrusion)
+      if (type != KinematicType::extrusion)
         EXPECT_LE(offLine(s.m.center, s.m.axis, fit.surface.point), 0.02)
             << name << " seed " << seed;
-      if (c.type == KinematicType::helix)
+      if (type == KinematicType::helix)
         EXPECT_NEAR(std::abs(fit.surface.pitch), s.m.pitch, 0.02 * s.m.pitch)
             << name << " seed " << seed;
       EXPECT_NEAR(fit.rms_distance, kSigma, 0.1 * kSigma) << name << " seed " << seed;

@@ -6,6 +6,8 @@
 #include "slipfit/fitting/kinematic_fit.h"
 #include "slipfit/sampling/motion_surface_sampler.h"
 
+#include "motion_surface_types.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -63,20 +65,13 @@ double nearest(const Eigen::Vector3d& q, const Eigen::Matrix3Xd& to) {
 // the points; and every vertex is within the longest edge (+ 4 σ) of a point: it does not run on
 // past them (a helix swept over its screw angle ran a turn, 1.57 units, past a twisted column).
 TEST(KinematicMesh, LiesOnTheFittedSurfaceAndCoversThePointsOnly) {
-  const struct {
-    MotionSurface surface;
-    KinematicType type;
-  } cases[] = {{MotionSurface::revolution, KinematicType::revolution},
-               {MotionSurface::extrusion, KinematicType::extrusion},
-               {MotionSurface::open_extrusion, KinematicType::extrusion},
-               {MotionSurface::helix, KinematicType::helix},
-               {MotionSurface::twisted_column, KinematicType::helix}};
-  for (const auto& c : cases) {
-    const std::string name(nameIn(kMotionSurfaceNames, c.surface));
-    const Fitted f = fitted(c.surface, c.type);
+  for (const auto& [surface, surface_name] : kMotionSurfaceNames) {
+    const KinematicType type = testing::kinematicTypeOf(surface);
+    const std::string name(surface_name);
+    const Fitted f = fitted(surface, type);
     const SurfaceMesh mesh = kinematicMesh(f.surface, f.points, 96);
     const std::size_t v = f.surface.profile.vertices.size();
-    const std::size_t rings = c.type == KinematicType::revolution ? 96 : 97;
+    const std::size_t rings = type == KinematicType::revolution ? 96 : 97;
     EXPECT_EQ(mesh.n_vertices(), rings * v) << name;
     EXPECT_EQ(mesh.n_faces(), 96 * f.surface.profile.segmentCount()) << name;
     Eigen::Matrix3Xd vertices(3, static_cast<Eigen::Index>(mesh.n_vertices()));
