@@ -101,7 +101,8 @@ struct NeighborhoodParameters {
 /// Counters of one NeighborhoodSelection::compute() call, for tests and reports.
 struct NeighborhoodStatistics {
   std::size_t queries = 0;      ///< neighbor searches made (one per finite queried point)
-  std::size_t tree_builds = 0;  ///< kd-tree builds made (0 when the given tree was already built)
+  std::size_t tree_builds = 0;  ///< kd-tree builds made (0 when the given tree was already built,
+                                ///< or the search is a GridSearch)
   std::size_t min_size = 0;     ///< smallest non-empty neighborhood
   std::size_t max_size = 0;     ///< largest neighborhood
   double mean_size = 0.0;       ///< mean size over queried finite points
@@ -110,6 +111,7 @@ struct NeighborhoodStatistics {
   double min_step = 0.0;              ///< its smallest and largest local step, cloud units
   double max_step = 0.0;
   std::size_t widened = 0;  ///< neighborhoods widened to span the levels
+  bool pixel_grid = false;  ///< searched on a sensor's pixel grid (GridSearch), not a kd-tree
 };
 
 /// Computes the neighborhood of every (indexed) point of a cloud.

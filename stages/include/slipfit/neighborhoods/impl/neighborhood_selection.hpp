@@ -4,6 +4,7 @@
 #include "slipfit/core/threads.h"
 #include "slipfit/neighborhoods/depth_quantization.h"
 #include "slipfit/neighborhoods/eigen_entropy.h"
+#include "slipfit/neighborhoods/grid_search.h"
 #include "slipfit/neighborhoods/neighborhood_selection.h"
 
 #include <pcl/common/point_tests.h>
@@ -91,9 +92,10 @@ void NeighborhoodSelection<PointT>::prepareSearch() {
   if (!search_)
     search_.reset(new NanoflannSearch<PointT>(true));
   search_->setSortedResults(true);
+  statistics_.pixel_grid = dynamic_cast<const GridSearch<PointT>*>(search_.get()) != nullptr;
   if (search_->getInputCloud() != input_) {
     search_->setInputCloud(input_);
-    statistics_.tree_builds = 1;
+    statistics_.tree_builds = statistics_.pixel_grid ? 0 : 1;
   }
 }
 
