@@ -612,6 +612,8 @@ PointData readCloud(const std::string& path, NanPolicy nan_policy, ReadReport* r
     data.frame.las_format = las_header.format;
   }
   data.sensor = sensorPose(read, ext == ".pcd", data.frame.shift);
+  if (data.sensor && data.sensor->height > 1)  // organized: a kept row's index is its pixel
+    data.pixels.assign(keep.begin(), keep.end());
   data.has_curvature = g.has_normals && g.curvature != nullptr;
   fillCloud(g, keep, data);
   const std::vector<CarriedField> extra = carryExtraFields(read.blob, g, keep, data);

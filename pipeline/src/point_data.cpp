@@ -135,6 +135,8 @@ void PointData::keepOnly(const pcl::Indices& kept) {
   }
   for (auto& f : fields)
     std::visit(compact, f.values);
+  if (pixels.size() == n)
+    compact(pixels);
   if (extra.width == n && extra.point_step > 0) {
     for (std::size_t j = 0; j < m; ++j)
       std::copy_n(extra.data.begin() + static_cast<std::ptrdiff_t>(kept[j]) * extra.point_step,

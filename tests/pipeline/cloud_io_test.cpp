@@ -294,6 +294,8 @@ TEST(CloudIo, OrganizedPcdKeepsItsSensorPose) {
   ASSERT_TRUE(d.sensor.has_value());
   EXPECT_EQ(d.sensor->width, 4u);
   EXPECT_EQ(d.sensor->height, 2u);
+  // Each kept point keeps its pixel: the NaN at pixel 3 is skipped.
+  EXPECT_EQ(d.pixels, (std::vector<std::int32_t>{0, 1, 2, 4, 5, 6, 7}));
   EXPECT_LT((d.sensor->origin - Eigen::Vector3d(1, 2, 3)).norm(), 1e-6);
   EXPECT_NEAR(d.sensor->orientation.angularDistance(
                   Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()))),
@@ -301,6 +303,7 @@ TEST(CloudIo, OrganizedPcdKeepsItsSensorPose) {
   const std::string ply =
       testing::scratchFile("plain.ply", std::string(kAsciiHeader) + "0 0 0\n1 1 1\n2 2 2\n");
   EXPECT_FALSE(readCloud(ply, NanPolicy::error).sensor.has_value());
+  EXPECT_TRUE(readCloud(ply, NanPolicy::error).pixels.empty());
 }
 
 TEST(CloudIo, BadFilesGiveOneClearError) {

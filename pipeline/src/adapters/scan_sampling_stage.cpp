@@ -48,6 +48,7 @@ class ScanSamplingStage : public Stage {
     PointData out = sampledPointData(points, normals, normals_);
     out.setField({"truth_label", std::move(labels)});
     out.setField({"truth_type", std::move(types)});
+    out.pixels = cells;
     out.setField({"grid_index", std::move(cells)});
     SensorPose pose;
     pose.origin = scan.origin;

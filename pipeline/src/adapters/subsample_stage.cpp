@@ -45,6 +45,7 @@ class SubsampleStage : public Stage, public SampledAnalysis {
     for (std::int32_t k : s.kept)
       keep[static_cast<std::size_t>(k)] = 1;
     data.keepOnly(keep);
+    data.pixels.clear();  // the analysis points stand for voxels, not pixels
     std::string placed;
     if (p_.mode == SubsampleMode::voxel && p_.position == SubsamplePosition::mean) {
       RepresentedMean mean = representedMean(x, s);

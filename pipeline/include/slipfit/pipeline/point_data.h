@@ -72,6 +72,10 @@ struct PointData {
   /// Set when the input is a sensor's view (an organized cloud, or a PCD with a VIEWPOINT other
   /// than the identity at the origin): the picture is then taken from the sensor.
   std::optional<SensorPose> sensor;
+  /// Each point's pixel in the sensor's width × height image (row × width + column) when the
+  /// input is organized (an organized PCD, a simulated scan); empty otherwise, and after a
+  /// subsample that dropped points (its points stand for voxels, not pixels).
+  std::vector<std::int32_t> pixels;
   /// Where `cloud`'s coordinates are: the input's frame minus frame.shift.
   CoordinateFrame frame;
   /// curvature holds a meaningful value (set by normal estimation).
