@@ -1,6 +1,7 @@
 // neighborhood_selection's `search` option (issues 34 and 35): with `auto` an organized input's
-// neighbors are found on its pixel grid, with `kdtree` (the default) by a kd-tree; the grid on an unorganized input is
-// refused with one line naming the stage and the option, and nothing is written.
+// neighbors are found on its pixel grid, with `kdtree` (the default) by a kd-tree; the grid on an
+// unorganized input is refused with one line naming the stage and the option, and nothing is
+// written.
 #include "run_cli.h"
 
 #include <gtest/gtest.h>

@@ -24,10 +24,11 @@ class NeighborhoodSelectionStage : public Stage {
  public:
   void declare(OptionSet& o) override {
     o.bind(p_);
-    o.add("search", search_, kSearchStructureNames,
-          "How neighbors are found: kdtree (a kd-tree, any cloud); grid (the sensor's pixel grid "
-          "of an organized input, as PCL's OrganizedNeighbor: no tree, and a depth "
-          "discontinuity separates); auto: the grid when the input is organized, else the kd-tree.");
+    o.add(
+        "search", search_, kSearchStructureNames,
+        "How neighbors are found: kdtree (a kd-tree, any cloud); grid (the sensor's pixel grid "
+        "of an organized input, as PCL's OrganizedNeighbor: no tree, and a depth "
+        "discontinuity separates); auto: the grid when the input is organized, else the kd-tree.");
     o.add("write_fields", write_fields_,
           "Add the per-point fields 'neighbors' (list size) and 'scale' (neighborhood radius) to "
           "the output cloud.");

@@ -14,9 +14,8 @@ void PixelGrid::check(std::size_t points) const {
     const std::int32_t c = cells[i];
     if (c < 0 || static_cast<std::size_t>(c) >= size)
       throw InvalidParameterError("pixel grid: point " + std::to_string(i) + "'s cell " +
-                                  std::to_string(c) + " lies outside the " +
-                                  std::to_string(width) + " x " + std::to_string(height) +
-                                  " image");
+                                  std::to_string(c) + " lies outside the " + std::to_string(width) +
+                                  " x " + std::to_string(height) + " image");
     if (taken[static_cast<std::size_t>(c)]++)
       throw InvalidParameterError("pixel grid: cell " + std::to_string(c) +
                                   " holds two points (the second is point " + std::to_string(i) +

@@ -33,7 +33,7 @@ Frame frame() {
   for (int v = 0; v < 90; ++v)
     for (int u = 0; u < 120; ++u) {
       if (u == 30 && v % 7 == 0)
-        continue;  // holes
+        continue;                                               // holes
       const double a = (u - cu) / focal, b = (v - cv) / focal;  // ray (a, b, 1)
       const bool on_box = std::abs(u - cu) < 20 && std::abs(v - cv) < 15;
       // The wall: z = 2 + 0.6 a z + 0.25 b z along the ray.
@@ -61,12 +61,22 @@ bool interior(const Frame& f, std::size_t i) {
   return true;
 }
 
+// The frame with both searches bound to it.
+struct GridAndTree {
+  Frame frame = slipfit::frame();
+  GridSearch<pcl::PointXYZ> grid{frame.grid};
+  NanoflannSearch<pcl::PointXYZ> tree{true};
+  GridAndTree() {
+    grid.setInputCloud(frame.cloud);
+    tree.setInputCloud(frame.cloud);
+  }
+};
+
 TEST(GridSearch, KnnInsideASmoothSurfaceIsTheKdTreesAnswer) {
-  const Frame f = frame();
-  GridSearch<pcl::PointXYZ> grid(f.grid);
-  grid.setInputCloud(f.cloud);
-  NanoflannSearch<pcl::PointXYZ> tree(true);
-  tree.setInputCloud(f.cloud);
+  const GridAndTree s;
+  const Frame& f = s.frame;
+  const GridSearch<pcl::PointXYZ>& grid = s.grid;
+  const NanoflannSearch<pcl::PointXYZ>& tree = s.tree;
   pcl::Indices a, b;
   std::vector<float> da, db;
   std::size_t compared = 0;
@@ -89,11 +99,10 @@ TEST(GridSearch, KnnInsideASmoothSurfaceIsTheKdTreesAnswer) {
 }
 
 TEST(GridSearch, RadiusSearchFindsEveryPointTheKdTreeFindsOnOneSurface) {
-  const Frame f = frame();
-  GridSearch<pcl::PointXYZ> grid(f.grid);
-  grid.setInputCloud(f.cloud);
-  NanoflannSearch<pcl::PointXYZ> tree(true);
-  tree.setInputCloud(f.cloud);
+  const GridAndTree s;
+  const Frame& f = s.frame;
+  const GridSearch<pcl::PointXYZ>& grid = s.grid;
+  const NanoflannSearch<pcl::PointXYZ>& tree = s.tree;
   pcl::Indices a, b;
   std::vector<float> da, db;
   // 4 pixel pitches on the wall (a pitch is about z / f = 1 cm across the ray).

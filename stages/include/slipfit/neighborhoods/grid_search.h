@@ -86,7 +86,7 @@ class GridSearch : public pcl::search::Search<PointT> {
       return 0;
     const auto want = static_cast<std::size_t>(k);
     const double pitch = pixelPitch(index);
-    std::vector<std::pair<float, std::int32_t>> found;
+    auto& found = buffer();  // one per thread: no allocation per query
     for (int radius = kInner;; radius = std::min(2 * radius, kMaxWindow)) {
       found.clear();
       collect(index, radius, std::numeric_limits<float>::infinity(), found);
@@ -123,15 +123,15 @@ class GridSearch : public pcl::search::Search<PointT> {
     const double pitch = pixelPitch(index);
     int window = kInner;
     if (pitch > 0.0 && std::isfinite(radius))
-      window = static_cast<int>(
-          std::clamp<double>(std::ceil(radius / pitch) + 1.0, kInner, kMaxWindow));
+      window =
+          static_cast<int>(std::clamp<double>(std::ceil(radius / pitch) + 1.0, kInner, kMaxWindow));
     // Beyond the inner window, every stride-th row and column: about max_nn pixels in all.
     int stride = 1;
     if (max_nn != 0) {
       const double side = 2.0 * window + 1.0;
       stride = std::max(1, static_cast<int>(std::floor(side / std::sqrt(double(max_nn)))));
     }
-    std::vector<std::pair<float, std::int32_t>> found;
+    auto& found = buffer();  // one per thread: no allocation per query
     collect(index, window, static_cast<float>(radius * radius), found, stride);
     const std::size_t want =
         max_nn == 0 ? found.size() : std::min<std::size_t>(max_nn, found.size());
@@ -175,8 +175,8 @@ class GridSearch : public pcl::search::Search<PointT> {
         const bool inner = std::abs(r - row) <= kInner && std::abs(c - col) <= kInner;
         if (!inner && ((r - row) % stride != 0 || (c - col) % stride != 0))
           continue;
-        const std::int32_t j = point_of_[static_cast<std::size_t>(r) * grid_.width +
-                                         static_cast<std::size_t>(c)];
+        const std::int32_t j =
+            point_of_[static_cast<std::size_t>(r) * grid_.width + static_cast<std::size_t>(c)];
         if (j < 0)
           continue;
         const float d = squaredDistance(static_cast<std::int32_t>(index), j);
@@ -203,6 +203,13 @@ class GridSearch : public pcl::search::Search<PointT> {
         best = std::min(best, squaredDistance(static_cast<std::int32_t>(index), j));
     }
     return std::isfinite(best) ? std::sqrt(static_cast<double>(best)) : 0.0;
+  }
+
+  /// This thread's candidate buffer (its capacity is kept between queries).
+  static std::vector<std::pair<float, std::int32_t>>& buffer() {
+    thread_local std::vector<std::pair<float, std::int32_t>> found;
+    found.clear();
+    return found;
   }
 
   /// The \a want nearest of \a found, nearest first (ties by index: deterministic).
