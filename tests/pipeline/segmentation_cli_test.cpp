@@ -139,6 +139,7 @@ TEST(SegmentationCli, ReportsEveryStepAndCarriesFieldsBackOnRequest) {
                          "[0-9.]+ s, recover_fillets [0-9.]+ s, refine_boundaries [0-9.]+ s, "
                          "join_creases [0-9.]+ s, recover_small_faces [0-9.]+ s, absorb_fragments "
                          "[0-9.]+ s, merge_settled_regions [0-9.]+ s, drop_non_surfaces [0-9.]+ s, "
+                         "join_occluded_pieces [0-9.]+ s, "
                          "finalize [0-9.]+ s\n"));
   const auto all = pipeline::readCloud(out + "/cloud.ply", pipeline::NanPolicy::error);
   const auto segments = pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);

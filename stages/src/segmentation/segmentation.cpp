@@ -24,7 +24,7 @@ SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& p
   SegmentationKernel kernel(points, normals, hoods, local_types, parameters);
   kernel.setPhaseListener(on_phase);
   using Phase = SegmentationKernel::Phase;
-  kernel.runPhases(Phase::estimate_scale, Phase::drop_non_surfaces);
+  kernel.runPhases(Phase::estimate_scale, kLastSegmentationPhase);
   SegmentationResult result = kernel.finalize();
   if (parameters.surfaces == SegmentSurfaces::kinematic) {
     if (on_phase)

@@ -31,6 +31,8 @@ std::string_view phaseName(SegmentationPhase phase) {
       return "absorb_fragments";
     case SegmentationPhase::merge_settled_regions:
       return "merge_settled_regions";
+    case SegmentationPhase::join_occluded_pieces:
+      return "join_occluded_pieces";
     case SegmentationPhase::drop_non_surfaces:
       return "drop_non_surfaces";
   }
@@ -79,6 +81,8 @@ void SegmentationKernel::runPhase(Phase phase) {
       return phases::absorbFragments(s);
     case Phase::merge_settled_regions:
       return phases::mergeSettledRegions(s);
+    case Phase::join_occluded_pieces:
+      return phases::joinOccludedPieces(s);
     case Phase::drop_non_surfaces:
       return phases::dropNonSurfaces(s);
   }

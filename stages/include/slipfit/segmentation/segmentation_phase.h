@@ -45,11 +45,15 @@ enum class SegmentationPhase {
   /// Regions that fill their tolerance slab like random points, or lie on one level of a
   /// quantized axis, are dropped. phases/finalize.cpp
   drop_non_surfaces = 12,
+  /// On a sensor's frame, surfaces that an occluder cut apart (a floor either side of a table)
+  /// join when one primitive of their type is the better model of both by BIC and explains each
+  /// within its noise. phases/merging.cpp
+  join_occluded_pieces = 13,
 };
 
 /// The first and last phase, for iterating over all of them.
 constexpr SegmentationPhase kFirstSegmentationPhase = SegmentationPhase::estimate_scale;
-constexpr SegmentationPhase kLastSegmentationPhase = SegmentationPhase::drop_non_surfaces;
+constexpr SegmentationPhase kLastSegmentationPhase = SegmentationPhase::join_occluded_pieces;
 
 /// The phase's name as in the code ("estimate_scale"), for reports and progress.
 std::string_view phaseName(SegmentationPhase phase);

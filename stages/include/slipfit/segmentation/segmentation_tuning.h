@@ -77,6 +77,13 @@ struct SegmentationTuning {
   /// Phase 10 passes, each on the regions the one before left (a speck that touched only another
   /// speck can join the region that absorbed it).
   static constexpr int absorb_passes = 4;
+  /// A union's primitive must explain each region's points with an RMS distance within this many
+  /// times their noise (their own σᵢ, as their own primitive does when that is worse): a ball or
+  /// a ring on a far table lies within the table's tolerance (ε plus two depth steps, 4 cm at
+  /// 2.4 m), and the table's RMS, swollen by its far rows' noise, hardly moves when it takes them.
+  /// Twice: a depth camera's rounding to levels is correlated along the surface, so a region's
+  /// RMS off its own primitive reads up to about 1.5 σ̂ (simulated Kinect frames, 2–3 m).
+  static constexpr double union_noise_ratio = 2.0;
 
   // ---- 5–6 types and fillets ------------------------------------------------------------------
   /// A wide region's type is revisited when a candidate's median normal angle is less than its
@@ -133,6 +140,11 @@ struct SegmentationTuning {
   /// radius about 2 spacings reads σ/s at most; a uniform ball reads 1).
   static constexpr double volume_thinness = 0.5;
   static constexpr std::size_t volume_thinness_sample = 64;  ///< members looked at, evenly spaced
+
+  // ---- 13 join_occluded_pieces ----------------------------------------------------------------
+  /// Of each region's members, this many evenly spaced are checked against another region's
+  /// primitive before their union is fitted.
+  static constexpr std::size_t piece_sample = 64;
 };
 
 }  // namespace slipfit

@@ -19,6 +19,7 @@ void recoverSmallFaces(SegmentationState& s);    // 9  small_faces.cpp
 void absorbFragments(SegmentationState& s);      // 10 merging.cpp
 void mergeSettledRegions(SegmentationState& s);  // 11 merging.cpp
 void dropNonSurfaces(SegmentationState& s);      // 12 finalize.cpp
+void joinOccludedPieces(SegmentationState& s);   // 13 merging.cpp
 /// Ends the run: the result with its segments largest first, each refitted on all its members.
 SegmentationResult finalize(SegmentationState& s);  // finalize.cpp
 
