@@ -84,6 +84,8 @@ struct SegmentationTuning {
   /// Twice: a depth camera's rounding to levels is correlated along the surface, so a region's
   /// RMS off its own primitive reads up to about 1.5 σ̂ (simulated Kinect frames, 2–3 m).
   static constexpr double union_noise_ratio = 2.0;
+  /// The larger region's own ratio to its noise is read from this many of its members.
+  static constexpr std::size_t ratio_sample = 2048;
 
   // ---- 5–6 types and fillets ------------------------------------------------------------------
   /// A wide region's type is revisited when a candidate's median normal angle is less than its

@@ -82,11 +82,16 @@ bool explainsWithinNoise(const SegmentationState& s, std::size_t a, std::size_t 
 }
 
 /// The RMS distance of \a members to \a primitive in units of their noise: over the RMS of their
-/// σᵢ (each with the floor of noise-free data, s.edge_margin).
+/// σᵢ (each with the floor of noise-free data, s.edge_margin). Over at most \a most of them, evenly
+/// spaced: a table of 10⁵ points judged against each of its fragments reads the same ratio from
+/// T::ratio_sample of them (relative error about 1/√(2 × 2048) ≈ 1.6 %).
 double noiseRatio(const SegmentationState& s, const std::vector<int>& members,
-                  const Primitive& primitive) {
+                  const Primitive& primitive,
+                  std::size_t most = std::numeric_limits<std::size_t>::max()) {
   double distances = 0.0, noise = 0.0;
-  for (int i : members) {
+  const std::size_t stride = std::max<std::size_t>(1, members.size() / most);
+  for (std::size_t k = 0; k < members.size(); k += stride) {
+    const int i = members[k];
     const double d = distance(s.points.col(i), primitive);
     const double sigma = s.noise[static_cast<std::size_t>(i)];
     distances += d * d;
@@ -121,7 +126,7 @@ bool standsOut(const SegmentationState& s, std::size_t big, std::size_t small,
                const Primitive& primitive) {
   if (s.noise.empty())
     return false;
-  const double big_own = noiseRatio(s, s.regions[big], s.fits[big].refined);
+  const double big_own = noiseRatio(s, s.regions[big], s.fits[big].refined, T::ratio_sample);
   if (big_own > T::union_noise_ratio)
     return false;
   const double own =
