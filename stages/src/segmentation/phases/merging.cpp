@@ -134,10 +134,10 @@ bool standsOut(const SegmentationState& s, std::size_t big, std::size_t small,
   return noiseRatio(s, s.regions[small], primitive) > T::union_noise_ratio * own;
 }
 
-/// Whether the merge accepts \a fit as the primitive of regions a and b together: it explains
-/// each region within its noise (keepsWithinNoise), and its RMS distance is at most merge_factor ×
-/// the larger of the two regions' (two planes at a crease: below both), or, \a settled,
-/// unionIsSimpler; or within their noise (explainsWithinNoise).
+/// Whether the merge accepts \a fit as the primitive of regions a and b together: the smaller of a
+/// dominated pair does not stand out of its noise under it (standsOut), and its RMS distance is at
+/// most merge_factor × the larger of the two regions' (two planes at a crease: below both), or,
+/// \a settled, unionIsSimpler; or within their noise (explainsWithinNoise).
 bool acceptsUnion(const SegmentationState& s, std::size_t a, std::size_t b, const FitResult& fit,
                   bool settled) {
   if (!fit.ok())
