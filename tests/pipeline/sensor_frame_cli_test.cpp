@@ -88,8 +88,8 @@ TEST(SensorFrameCli, ABallAndARingOnAFarTableKeepTheirOwnSegments) {
   const Match ring = match(l, 12), ball = match(l, 13);
   EXPECT_TRUE(ring.owned);
   EXPECT_TRUE(ball.owned);
-  EXPECT_GE(ring.iou, 0.9);
-  EXPECT_GE(ball.iou, 0.5);
+  EXPECT_GE(ring.iou, 0.94);
+  EXPECT_GE(ball.iou, 0.53);
 }
 
 TEST(SensorFrameCli, TheFloorEitherSideOfATableIsJoined) {
@@ -99,7 +99,7 @@ TEST(SensorFrameCli, TheFloorEitherSideOfATableIsJoined) {
   // (two pieces joined), 0.540 before.
   const Match floor = match(l, 0);
   EXPECT_TRUE(floor.owned);
-  EXPECT_GE(floor.iou, 0.7);
+  EXPECT_GE(floor.iou, 0.71);
 }
 
 }  // namespace
