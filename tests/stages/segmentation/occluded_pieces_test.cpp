@@ -1,6 +1,7 @@
-// Phase 13 (join_occluded_pieces, issue 34): on a sensor's frame, two pieces of one surface that an
-// occluder cut apart are one segment; two parallel surfaces a few σ apart, two pieces further apart
-// than they are wide, and two coplanar faces of a noise-free (CAD) cloud stay apart.
+// Phase 13 (join_occluded_pieces, issue 34): on a sensor's frame (depth on levels), two pieces of
+// one surface that an occluder cut apart are one segment; two parallel surfaces a few σ apart and
+// two pieces further apart than they are wide stay apart, and so do two coplanar faces of a cloud
+// without levels, noise-free (a CAD part) or noisy (a sparse CAD part's σ̂ reaches s/20).
 #include "segment_cloud.h"
 
 #include <gtest/gtest.h>
@@ -8,6 +9,7 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <cmath>
 #include <cstddef>
 #include <random>
 #include <set>
@@ -16,23 +18,34 @@ namespace slipfit {
 namespace {
 
 constexpr double kSpacing = 0.01;
+// The pieces lie on the plane z = kTilt·x, seen along z (the depth axis): a floor seen at a slant.
+constexpr double kTilt = 0.3;
 
-/// Two square patches of the plane z = 0 on a grid of kSpacing, x in [0, width) and
-/// [width + gap, 2 width + gap), y in [0, 0.4); the second raised by \a offset; Gaussian noise
-/// \a sigma along z.
+/// Two patches of the plane z = kTilt·x, one point per kSpacing cell jittered within it, x in
+/// [0, width) and [width + gap, 2 width + gap), y in [0, 0.4); the second raised by \a offset;
+/// Gaussian noise \a sigma along z, then z rounded to levels \a step apart where \a step > 0
+/// (a depth camera's: 0.25 m of depth on levels 2 mm apart, 8 or more points on each).
 pcl::PointCloud<pcl::PointNormal>::Ptr twoPieces(double width, double gap, double offset,
-                                                 double sigma) {
+                                                 double sigma, double step) {
   auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointNormal>>();
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, sigma);
+  std::uniform_real_distribution<double> jitter(-0.4, 0.4);
   const auto columns = static_cast<int>(width / kSpacing + 0.5);
   for (int piece = 0; piece < 2; ++piece)
     for (int u = 0; u < columns; ++u)
       for (int v = 0; v < 40; ++v) {
+        const double du = jitter(rng);
+        const double dv = jitter(rng);
+        const double x = piece * (width + gap) + (u + du) * kSpacing;
+        const double e = sigma > 0.0 ? noise(rng) : 0.0;
+        double z = kTilt * x + piece * offset + e;
+        if (step > 0.0)
+          z = step * std::round(z / step);
         pcl::PointNormal p;
-        p.x = static_cast<float>(piece * (width + gap) + u * kSpacing);
-        p.y = static_cast<float>(v * kSpacing);
-        p.z = static_cast<float>(piece * offset + (sigma > 0.0 ? noise(rng) : 0.0));
+        p.x = static_cast<float>(x);
+        p.y = static_cast<float>((v + dv) * kSpacing);
+        p.z = static_cast<float>(z);
         cloud->push_back(p);
       }
   return cloud;
@@ -55,36 +68,51 @@ double largestShare(const SegmentationResult& r, std::size_t points) {
   return static_cast<double>(r.segments[0].indices.size()) / static_cast<double>(points);
 }
 
-// σ = 2 mm on a 1 cm grid (σ̂ ≥ s/20: a sensor's noise). Pieces 0.3 m wide, 0.2 m apart.
+// σ = 2 mm on a 1 cm grid, depth on levels 2 mm apart. Pieces 0.3 m wide, 0.2 m apart.
 constexpr double kSigma = 0.002;
+constexpr double kStep = 0.002;
 
-TEST(OccludedPieces, TwoPiecesOfOneNoisyPlaneAreOneSegment) {
-  const auto cloud = twoPieces(0.3, 0.2, 0.0, kSigma);
+TEST(OccludedPieces, TwoPiecesOfOneFramesPlaneAreOneSegment) {
+  const auto cloud = twoPieces(0.3, 0.2, 0.0, kSigma, kStep);
   const SegmentationResult r = testing::segmentCloud(cloud, 12).result;
+  ASSERT_TRUE(r.lattice.detected());
+  EXPECT_EQ(r.lattice.axis, 2);
   // Without the phase: two planes of 1200 points each.
   EXPECT_EQ(largeSegments(r, cloud->size()), 1u);
   EXPECT_GE(largestShare(r, cloud->size()), 0.99);
 }
 
 TEST(OccludedPieces, TwoParallelPlanesSixSigmaApartStayTwo) {
-  // Each piece's plane, extended, misses the other by 6 σ (3 × the union's noise ratio of 2).
-  const auto cloud = twoPieces(0.3, 0.2, 6.0 * kSigma, kSigma);
+  // Each piece's plane, extended, misses the other by 6 σ (3 × the union's noise ratio of 2;
+  // rounding to 2 mm levels adds σ = 0.6 mm).
+  const auto cloud = twoPieces(0.3, 0.2, 6.0 * kSigma, kSigma, kStep);
   const SegmentationResult r = testing::segmentCloud(cloud, 12).result;
+  ASSERT_TRUE(r.lattice.detected());
   EXPECT_EQ(largeSegments(r, cloud->size()), 2u);
 }
 
 TEST(OccludedPieces, PiecesFurtherApartThanTheyAreWideStayTwo) {
-  // Pieces 0.1 m wide (0.41 m across their diagonal) 0.5 m apart: two faces that happen to be
+  // Pieces 0.3 m wide (0.5 m across their diagonal) 0.6 m apart: two faces that happen to be
   // coplanar, not one surface behind an occluder.
-  const auto cloud = twoPieces(0.1, 0.5, 0.0, kSigma);
+  const auto cloud = twoPieces(0.3, 0.6, 0.0, kSigma, kStep);
   const SegmentationResult r = testing::segmentCloud(cloud, 12).result;
+  ASSERT_TRUE(r.lattice.detected());
   EXPECT_EQ(largeSegments(r, cloud->size()), 2u);
 }
 
 TEST(OccludedPieces, CoplanarFacesOfANoiseFreeCloudStayTwo) {
   // No noise: a CAD part's two coplanar faces are two segments (Fit4CAD's ground truth).
-  const auto cloud = twoPieces(0.3, 0.2, 0.0, 0.0);
+  const auto cloud = twoPieces(0.3, 0.2, 0.0, 0.0, 0.0);
   const SegmentationResult r = testing::segmentCloud(cloud, 12).result;
+  EXPECT_EQ(largeSegments(r, cloud->size()), 2u);
+}
+
+TEST(OccludedPieces, CoplanarFacesOfANoisyCloudWithoutLevelsStayTwo) {
+  // σ̂ ≥ s/20 but no levels: noise alone does not make a sensor's frame (Fit4CAD's sparse PC113
+  // reads σ̂ ≥ s/20; its two coaxial cylinders of one radius are two faces).
+  const auto cloud = twoPieces(0.3, 0.2, 0.0, kSigma, 0.0);
+  const SegmentationResult r = testing::segmentCloud(cloud, 12).result;
+  ASSERT_FALSE(r.lattice.detected());
   EXPECT_EQ(largeSegments(r, cloud->size()), 2u);
 }
 

@@ -315,8 +315,7 @@ void estimateScale(SegmentationState& s) {
   // σ is its own: the widened neighborhoods span the levels, so their residual is the sensor's
   // noise and rounding together, which grow with depth (about a third of the local step at 2 m on
   // the simulated Kinect).
-  s.sensor_frame = !s.parameters.distance && (s.result.lattice.detected() ||
-                                              scale.noise >= T::spacing_factor * scale.spacing);
+  s.sensor_frame = !s.parameters.distance && s.result.lattice.detected();
   if (!s.parameters.distance && s.noise.empty())
     s.noise = s.result.lattice.detected() ? localNoise(s.hoods, scale, s.n, false)
                                           : std::vector<double>(s.n, scale.noise);
