@@ -5,6 +5,7 @@
 #include "run_cli.h"
 
 #include "slipfit/pipeline/cloud_io.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -38,11 +39,13 @@ std::vector<Eigen::Vector3f> planeWithOutliers(std::size_t& outliers) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<Eigen::Vector3f> p;
-  for (int i = 0; i < 10000; ++i)
-    p.emplace_back(u(rng), u(rng), 0.0f);
+  for (int i = 0; i < 10000; ++i) {
+    const Eigen::Vector2f w = randomVector<2>(u, rng);
+    p.emplace_back(w(0), w(1), 0.0f);
+  }
   outliers = 100;
   for (std::size_t i = 0; i < outliers; ++i)
-    p.emplace_back(u(rng), u(rng), 0.5f + u(rng));
+    p.emplace_back(randomVector<3>(u, rng) + Eigen::Vector3f(0.0f, 0.0f, 0.5f));
   return p;
 }
 

@@ -4,6 +4,7 @@
 #include "int_field.h"
 #include "run_cli.h"
 #include "slipfit/pipeline/cloud_io.h"
+#include "slipfit/sampling/random_vector.h"
 #include "slipfit/segmentation/segmentation_metrics.h"
 
 #include <gmock/gmock.h>
@@ -195,9 +196,10 @@ TEST(SegmentationCli, NoSurfaceGivesAnEmptyReportAndSaysSo) {
   std::string ply =
       "ply\nformat ascii 1.0\nelement vertex 3000\nproperty float x\n"
       "property float y\nproperty float z\nend_header\n";
-  for (int i = 0; i < 3000; ++i)
-    ply +=
-        std::to_string(g(rng)) + " " + std::to_string(g(rng)) + " " + std::to_string(g(rng)) + "\n";
+  for (int i = 0; i < 3000; ++i) {
+    const auto w = randomVector<3>(g, rng);
+    ply += std::to_string(w(0)) + " " + std::to_string(w(1)) + " " + std::to_string(w(2)) + "\n";
+  }
   const std::string in = scratchFile("blob.ply", ply);
   const std::string out = scratchDir("blob_segments");
   const CliResult r =

@@ -4,6 +4,7 @@
 #include "slipfit/neighborhoods/normal_estimation.h"
 #include "slipfit/sampling/motion_surface_sampler.h"
 #include "slipfit/sampling/primitive_sampler.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -26,7 +27,7 @@ enum class Sampling { uniform, gradient, scan_lines };
 /// random direction, or on parallel stripes a fifth of their spacing wide (a line scanner).
 void thin(Sampling sampling, std::mt19937_64& rng, Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& n) {
   std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
-  const Eigen::Vector3d d = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+  const Eigen::Vector3d d = randomVector<3>(u, rng).normalized();
   const Eigen::VectorXd along = d.transpose() * x;
   const double lo = along.minCoeff(), span = std::max(along.maxCoeff() - lo, 1e-300);
   Eigen::Index kept = 0;
@@ -95,9 +96,9 @@ VariedShape variedPrimitive(int index, std::uint64_t seed, const Disturbance& di
   std::mt19937_64 rng(seed * 1000003u + static_cast<std::uint64_t>(index));
   std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
   const double size = std::pow(10.0, -3.0 + 6.0 * unit(rng));
-  const Eigen::Vector3d axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
-  const Eigen::Vector3d where = size * ((index % 3 == 1 ? 1e3 : 0.0) * Eigen::Vector3d::Ones() +
-                                        Eigen::Vector3d(u(rng), u(rng), u(rng)));
+  const Eigen::Vector3d axis = randomVector<3>(u, rng).normalized();
+  const Eigen::Vector3d where =
+      size * ((index % 3 == 1 ? 1e3 : 0.0) * Eigen::Vector3d::Ones() + randomVector<3>(u, rng));
   const auto sampling = static_cast<Sampling>((index / 5) % 3);
   const bool partial = unit(rng) < 0.5;
   PrimitiveSamplingParameters p;
@@ -182,10 +183,9 @@ VariedShape variedMotionSurface(int index, std::uint64_t seed, const Disturbance
   VariedShape s;
   sampleMotionSurface(p, s.points, s.normals);
   const Eigen::Matrix3d turn =
-      Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized())
-          .toRotationMatrix();
-  const Eigen::Vector3d shift = size * ((index % 3 == 1 ? 1e3 : 0.0) * Eigen::Vector3d::Ones() +
-                                        Eigen::Vector3d(u(rng), u(rng), u(rng)));
+      Eigen::Quaterniond(randomVector<4>(u, rng).normalized()).toRotationMatrix();
+  const Eigen::Vector3d shift =
+      size * ((index % 3 == 1 ? 1e3 : 0.0) * Eigen::Vector3d::Ones() + randomVector<3>(u, rng));
   s.points = (turn * s.points).colwise() + shift;
   s.normals = turn * s.normals;
   s.axis = turn.col(2);

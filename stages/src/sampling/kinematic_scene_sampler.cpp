@@ -3,6 +3,7 @@
 #include "slipfit/core/angle_units.h"
 #include "slipfit/core/exceptions.h"
 #include "slipfit/sampling/kinematic_sampler.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <algorithm>
 #include <cmath>
@@ -211,7 +212,7 @@ double spherePart(const Eigen::Vector2d& foot, Rng& rng, std::vector<Piece>& pie
     for (Eigen::Index i = 0; i < x.cols(); ++i) {
       Eigen::Vector3d d;
       do {
-        d = Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+        d = randomVector<3>(gauss, rng);
       } while (!(d.norm() > 1e-12));
       nn.col(i) = d.normalized();
       x.col(i) = center + r * nn.col(i);
@@ -320,7 +321,7 @@ KinematicScene sampleKinematicScene(const KinematicSceneParameters& parameters) 
   if (parameters.noise > 0.0) {
     std::normal_distribution<double> gauss(0.0, parameters.noise * scene.median_size);
     for (Eigen::Index i = 0; i < n; ++i)
-      scene.points.col(i) += Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+      scene.points.col(i) += randomVector<3>(gauss, rng);
   }
   return scene;
 }

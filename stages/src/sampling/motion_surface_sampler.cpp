@@ -2,6 +2,7 @@
 
 #include "slipfit/core/angle_units.h"
 #include "slipfit/core/exceptions.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <Eigen/Geometry>
 
@@ -88,7 +89,7 @@ void sampleMotionSurface(const MotionSurfaceParameters& p, Eigen::Matrix3Xd& poi
       }
     }
     if (p.noise > 0.0)
-      x += p.noise * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+      x += p.noise * randomVector<3>(gauss, rng);
     points.col(i) = rotation * x + p.center;
     normals.col(i) = rotation * nn;
   }

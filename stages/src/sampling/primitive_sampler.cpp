@@ -2,6 +2,7 @@
 
 #include "slipfit/core/angle_units.h"
 #include "slipfit/core/exceptions.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <Eigen/Geometry>
 
@@ -109,7 +110,8 @@ void samplePrimitive(const PrimitiveSamplingParameters& p, Eigen::Matrix3Xd& poi
             const Eigen::Vector3d nn = s.normal.normalized();
             const Eigen::Vector3d u = nn.unitOrthogonal(), v = nn.cross(u);
             const double d = s.d / s.normal.norm();
-            x = nn * d + (2 * unit(rng) - 1) * p.extent * u + (2 * unit(rng) - 1) * p.extent * v;
+            const Eigen::Vector2d w = randomVector<2>(unit, rng);
+            x = nn * d + (2 * w(0) - 1) * p.extent * u + (2 * w(1) - 1) * p.extent * v;
             n = nn;
           } else if constexpr (std::is_same_v<T, Sphere>) {
             // Area-uniform on the cap: the height along the cap axis is uniform in [cos cap, 1].
@@ -152,9 +154,9 @@ void samplePrimitive(const PrimitiveSamplingParameters& p, Eigen::Matrix3Xd& poi
         },
         p.primitive);
     if (p.noise > 0.0)
-      x += p.noise * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+      x += p.noise * randomVector<3>(gauss, rng);
     if (p.normal_noise > 0.0)
-      n = (n + p.normal_noise * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng))).normalized();
+      n = (n + p.normal_noise * randomVector<3>(gauss, rng)).normalized();
     if (p.flip_fraction > 0.0 && unit(rng) < p.flip_fraction)
       n = -n;
     points.col(i) = x;
@@ -166,8 +168,8 @@ void samplePrimitive(const PrimitiveSamplingParameters& p, Eigen::Matrix3Xd& poi
     const Eigen::Vector3d hi =
         points.leftCols(static_cast<Eigen::Index>(p.points)).rowwise().maxCoeff();
     for (Eigen::Index i = static_cast<Eigen::Index>(p.points); i < total; ++i) {
-      points.col(i) = lo + (hi - lo).cwiseProduct(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)));
-      Eigen::Vector3d n(gauss(rng), gauss(rng), gauss(rng));
+      points.col(i) = lo + (hi - lo).cwiseProduct(randomVector<3>(unit, rng));
+      Eigen::Vector3d n = randomVector<3>(gauss, rng);
       normals.col(i) = n.norm() > 0.0 ? n.normalized() : Eigen::Vector3d::UnitZ();
       if (outlier)
         (*outlier)[static_cast<std::size_t>(i)] = 1;

@@ -3,6 +3,7 @@
 #include "slipfit/core/angle_units.h"
 #include "slipfit/core/exceptions.h"
 #include "slipfit/sampling/primitive_sampler.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <Eigen/Geometry>
 
@@ -66,7 +67,8 @@ LocalShape localShape(PrimitiveType type, double size, std::mt19937_64& rng) {
 
 Eigen::Matrix3d randomRotation(std::mt19937_64& rng) {
   std::normal_distribution<double> g(0.0, 1.0);
-  Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+  const Eigen::Vector4d w = randomVector<4>(g, rng);
+  Eigen::Quaterniond q(w(0), w(1), w(2), w(3));
   q.normalize();
   return q.toRotationMatrix();
 }
@@ -145,7 +147,7 @@ void sampleRandomScene(const RandomSceneParameters& parameters, Eigen::Matrix3Xd
     sizes.push_back(size);
     Eigen::Vector3d centre(largest * 1.2 * double(cell % side), largest * 1.2 * double(cell / side),
                            0.0);
-    centre += 0.2 * largest * Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+    centre += 0.2 * largest * (randomVector<3>(u, rng) - Eigen::Vector3d::Constant(0.5));
     ++cell;
     const Eigen::Matrix3d rotation = randomRotation(rng);
     const double weight = std::exp(std::log(100.0) * u(rng));
@@ -179,7 +181,7 @@ void sampleRandomScene(const RandomSceneParameters& parameters, Eigen::Matrix3Xd
     LocalShape shape = localShape(type, size, rng);
     if (!pieces.empty() && u(rng) < 0.2) {
       // Touch or cut the previous shape: centres at 0.7–1.0 × the sum of the radii.
-      const Eigen::Vector3d dir = Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)).normalized();
+      const Eigen::Vector3d dir = randomVector<3>(gauss, rng).normalized();
       centre = previous + (0.7 + 0.3 * u(rng)) * (previous_radius + shape.radius) * dir;
     }
     pieces.push_back({shape.sampling, rotation, centre, weight});
@@ -224,7 +226,7 @@ void sampleRandomScene(const RandomSceneParameters& parameters, Eigen::Matrix3Xd
     for (Eigen::Index i = 0; i < x.cols(); ++i, ++at) {
       points.col(at) = piece.rotation * x.col(i) + piece.translation;
       if (sigma > 0.0)
-        points.col(at) += sigma * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+        points.col(at) += sigma * randomVector<3>(gauss, rng);
       normals.col(at) = piece.rotation * n.col(i);
       labels[static_cast<std::size_t>(at)] = static_cast<std::int32_t>(k);
     }
@@ -234,8 +236,8 @@ void sampleRandomScene(const RandomSceneParameters& parameters, Eigen::Matrix3Xd
     const Eigen::Vector3d lo = points.leftCols(at).rowwise().minCoeff();
     const Eigen::Vector3d hi = points.leftCols(at).rowwise().maxCoeff();
     for (; at < points.cols(); ++at) {
-      points.col(at) = lo + (hi - lo).cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-      const Eigen::Vector3d d(gauss(rng), gauss(rng), gauss(rng));
+      points.col(at) = lo + (hi - lo).cwiseProduct(randomVector<3>(u, rng));
+      const Eigen::Vector3d d = randomVector<3>(gauss, rng);
       normals.col(at) = d.norm() > 0.0 ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::UnitZ();
     }
   }

@@ -2,6 +2,7 @@
 
 #include "slipfit/core/angle_units.h"
 #include "slipfit/core/exceptions.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <Eigen/Geometry>
 
@@ -167,7 +168,7 @@ void sampleScene(const SceneSamplingParameters& parameters, Eigen::Matrix3Xd& po
       const auto col = static_cast<Eigen::Index>(at);
       normals.col(col) = surfaceNormal(x, truth[static_cast<std::size_t>(label)].primitive);
       if (parameters.noise > 0.0)
-        x += parameters.noise * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+        x += parameters.noise * randomVector<3>(gauss, rng);
       points.col(col) = x;
       labels[at] = label;
     }
@@ -176,7 +177,7 @@ void sampleScene(const SceneSamplingParameters& parameters, Eigen::Matrix3Xd& po
     const auto col = static_cast<Eigen::Index>(at);
     points.col(col) << (2 * unit(rng) - 1) * kGroundHalf, (2 * unit(rng) - 1) * kGroundHalf,
         1.2 * unit(rng);
-    Eigen::Vector3d d(gauss(rng), gauss(rng), gauss(rng));
+    Eigen::Vector3d d = randomVector<3>(gauss, rng);
     normals.col(col) = d.normalized();
   }
 }

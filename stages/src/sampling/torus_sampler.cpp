@@ -2,6 +2,7 @@
 
 #include "slipfit/core/angle_units.h"
 #include "slipfit/core/exceptions.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <cmath>
 #include <random>
@@ -124,9 +125,9 @@ void TorusSampler::sample(Eigen::Matrix3Xd& points, Eigen::Matrix3Xd& normals,
     Eigen::Vector3d x = pose * s.position;
     Eigen::Vector3d n = pose.linear() * s.normal;
     if (p.noise > 0.0)
-      x += p.noise * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+      x += p.noise * randomVector<3>(gauss, rng);
     if (p.normal_noise > 0.0)
-      n = (n + p.normal_noise * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng))).normalized();
+      n = (n + p.normal_noise * randomVector<3>(gauss, rng)).normalized();
     points.col(count) = x;
     normals.col(count) = n;
     ++count;
@@ -141,9 +142,8 @@ void TorusSampler::sample(Eigen::Matrix3Xd& points, Eigen::Matrix3Xd& normals,
     hi = hi.cwiseMax(c);
   }
   for (std::size_t k = 0; k < outliers; ++k) {
-    const Eigen::Vector3d x =
-        lo + (hi - lo).cwiseProduct(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)));
-    Eigen::Vector3d n(gauss(rng), gauss(rng), gauss(rng));
+    const Eigen::Vector3d x = lo + (hi - lo).cwiseProduct(randomVector<3>(unit, rng));
+    Eigen::Vector3d n = randomVector<3>(gauss, rng);
     n = n.norm() > 0.0 ? n.normalized() : Eigen::Vector3d::UnitZ();
     points.col(count) = x;
     normals.col(count) = n;

@@ -1,6 +1,7 @@
 // fitProfileCurve: polylines through noisy 2D samples of open and closed curves.
 
 #include "slipfit/fitting/profile_curve.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <gtest/gtest.h>
 
@@ -156,8 +157,9 @@ TEST(ProfileIndex, ProjectsAsTheScanOfEverySegment) {
       const Eigen::Vector2d& v = c.curve.vertices[static_cast<std::size_t>(
           unit(rng) * static_cast<double>(c.curve.vertices.size() - 1))];
       const double spread = k % 3 == 0 ? 0.01 : k % 3 == 1 ? 0.5 : 2.0;
+      const Eigen::Vector2d w = randomVector<2>(unit, rng);
       const Eigen::Vector2d q =
-          v + spread * Eigen::Vector2d((unit(rng) - 0.5) * size.x(), (unit(rng) - 0.5) * size.y());
+          v + spread * Eigen::Vector2d((w(0) - 0.5) * size.x(), (w(1) - 0.5) * size.y());
       const double scale = c.min_scale + (1.0 - c.min_scale) * unit(rng);
       const ProfileProjection a = index.project(q, scale);
       const ProfileProjection b = projectOnProfile(c.curve, q, scale, c.period);

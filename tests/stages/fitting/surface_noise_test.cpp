@@ -3,6 +3,7 @@
 #include "slipfit/fitting/surface_noise.h"
 
 #include "slipfit/core/exceptions.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <gtest/gtest.h>
 
@@ -25,7 +26,7 @@ void noisyPlane(bool lines, Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& n) {
     const double a = u(rng), b = u(rng);
     if (lines && std::fmod(a + 1.0, 0.1) > 0.02)
       continue;
-    x.col(i) = Eigen::Vector3d(a + g(rng), b + g(rng), g(rng));
+    x.col(i) = Eigen::Vector3d(a, b, 0.0) + randomVector<3>(g, rng);
     n.col(i++) = Eigen::Vector3d::UnitZ();
   }
 }

@@ -4,6 +4,7 @@
 #include "shared_neighborhoods.h"
 #include "slipfit/core/angle_units.h"
 #include "slipfit/sampling/primitive_sampler.h"
+#include "slipfit/sampling/random_vector.h"
 #include "slipfit/sampling/range_scanner.h"
 
 #include <gtest/gtest.h>
@@ -20,9 +21,8 @@ namespace {
 /// A random primitive of \a type, size ~ \a size, placed within \a offset of the origin.
 Primitive randomPrimitive(PrimitiveType type, std::mt19937_64& rng, double size, double offset) {
   std::uniform_real_distribution<double> u(-1.0, 1.0), pos(0.5, 1.5);
-  auto dir = [&] { return Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized(); };
-  const Eigen::Vector3d where =
-      offset * Eigen::Vector3d::Ones() + size * Eigen::Vector3d(u(rng), u(rng), u(rng));
+  auto dir = [&] { return randomVector<3>(u, rng).normalized(); };
+  const Eigen::Vector3d where = offset * Eigen::Vector3d::Ones() + size * randomVector<3>(u, rng);
   switch (type) {
     case PrimitiveType::plane: {
       const Eigen::Vector3d n = dir();
@@ -471,7 +471,7 @@ TEST(Distances, MatchBruteForceNearestPoints) {
       x.colwise() -= 4.0 * c->axis;  // heights −4..4
     int behind_apex = 0;
     for (int q = 0; q < 60; ++q) {
-      const Eigen::Vector3d query(u(rng), u(rng), u(rng));
+      const Eigen::Vector3d query = randomVector<3>(u, rng);
       const double brute = (x.colwise() - query).colwise().norm().minCoeff();
       const double exact = distance(query, shape);
       // Brute force is an upper bound, within the sample spacing (~0.05 here) of the truth.
@@ -506,7 +506,7 @@ Band cylinderBand(double arc, int n, double normal_noise, std::uint64_t seed) {
     const double t = arc * (u(rng) - 0.5), z = 2.0 * u(rng);
     const Eigen::Vector3d radial(std::cos(t), std::sin(t), 0.0);
     b.points.col(i) = Eigen::Vector3d(0.0, 0.0, 3.0) + 4.0 * radial + z * Eigen::Vector3d::UnitZ();
-    const Eigen::Vector3d turn(g(rng), g(rng), g(rng));
+    const Eigen::Vector3d turn = randomVector<3>(g, rng);
     b.normals.col(i) = (radial + normal_noise * (turn - turn.dot(radial) * radial)).normalized();
   }
   return b;

@@ -7,6 +7,7 @@
 
 #include "slipfit/neighborhoods/depth_quantization.h"
 #include "slipfit/neighborhoods/neighborhood_selection.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <gtest/gtest.h>
 #include <pcl/point_types.h>
@@ -40,7 +41,7 @@ TEST(DepthQuantization, ContinuousNoiseFewFlatFacesAndGridsAreNotALattice) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (Eigen::Index i = 0; i < plate.cols(); ++i)
-    plate.col(i) = Eigen::Vector3d(u(rng), u(rng), static_cast<double>(i % 2));
+    plate.col(i) << randomVector<2>(u, rng), static_cast<double>(i % 2);
   EXPECT_FALSE(detectQuantizedAxis(plate).detected());
   // A regular grid: x and y on 100 levels each, z continuous — a grid sampling, not depth levels.
   Eigen::Matrix3Xd grid(3, 10000);

@@ -1,4 +1,5 @@
 #include "slipfit/neighborhoods/eigen_entropy.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <gtest/gtest.h>
 
@@ -29,8 +30,7 @@ TEST(EigenEntropy, OptimalSizeMatchesBruteForce) {
     std::vector<Eigen::Vector3f> pts(60);
     const Eigen::Vector3f scale(1.0f, 0.3f + 0.03f * trial, 0.05f);
     for (auto& p : pts)
-      p = Eigen::Vector3f(1e3f, -2e3f, 5e2f) +
-          Eigen::Vector3f(g(rng), g(rng), g(rng)).cwiseProduct(scale);
+      p = Eigen::Vector3f(1e3f, -2e3f, 5e2f) + randomVector<3>(g, rng).cwiseProduct(scale);
     const Eigen::Vector3f q = pts[0];
     std::sort(pts.begin() + 1, pts.end(), [&](const auto& a, const auto& b) {
       return (a - q).squaredNorm() < (b - q).squaredNorm();
@@ -69,7 +69,7 @@ TEST(EigenEntropy, PrefersTheLinearPrefix) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<float> u(-3.0f, 3.0f);
   for (int i = 12; i < 30; ++i)
-    m.col(i) = Eigen::Vector3f(u(rng), u(rng), u(rng));
+    m.col(i) = randomVector<3>(u, rng);
   const int k = optimalNeighborhoodSize(m, 5, 30, 1);
   EXPECT_GE(k, 5);
   EXPECT_LE(k, 12);

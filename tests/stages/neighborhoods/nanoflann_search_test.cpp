@@ -2,6 +2,7 @@
 // same order (distance, then cloud index), with the squared distances PCL computes; non-finite
 // points never returned; and a PCL class (NormalEstimation) run with it as its search method.
 #include "slipfit/neighborhoods/nanoflann_search.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <gtest/gtest.h>
 #include <pcl/features/normal_3d.h>
@@ -27,7 +28,8 @@ Cloud::Ptr testCloud(std::size_t n, unsigned seed, bool grid, bool copies = true
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   auto cloud = pcl::make_shared<Cloud>();
   for (std::size_t i = 0; i < n; ++i) {
-    pcl::PointXYZ p(u(rng), u(rng), u(rng));
+    const Eigen::Vector3f w = randomVector<3>(u, rng);
+    pcl::PointXYZ p(w.x(), w.y(), w.z());
     if (grid)
       p = pcl::PointXYZ(std::round(p.x * 64) / 64, std::round(p.y * 64) / 64,
                         std::round(p.z * 64) / 64);

@@ -5,6 +5,7 @@
 #include "shapes.h"
 #include "slipfit/core/exceptions.h"
 #include "slipfit/neighborhoods/normal_estimation.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <gtest/gtest.h>
 
@@ -22,8 +23,10 @@ Cloud::Ptr randomCloud(std::size_t n, std::uint64_t seed) {
   auto c = std::make_shared<Cloud>();
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  for (std::size_t i = 0; i < n; ++i)
-    c->push_back(pcl::PointXYZ(u(rng), u(rng), u(rng)));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3f w = randomVector<3>(u, rng);
+    c->push_back(pcl::PointXYZ(w.x(), w.y(), w.z()));
+  }
   return c;
 }
 

@@ -4,6 +4,7 @@
 #include "slipfit/filters/subsampling.h"
 #include "slipfit/fitting/primitives.h"
 #include "slipfit/render/splat_renderer.h"
+#include "slipfit/sampling/random_vector.h"
 #include "slipfit/sampling/scene_sampler.h"
 
 #include <gtest/gtest.h>
@@ -27,7 +28,7 @@ TEST(SurfaceNormal, IsTheGradientOfTheSignedDistance) {
   std::uniform_real_distribution<double> u(-2.0, 2.0);
   for (const Primitive& s : shapes)
     for (int k = 0; k < 200; ++k) {
-      const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+      const Eigen::Vector3d p = randomVector<3>(u, rng);
       if (const auto* cone = std::get_if<Cone>(&s)) {
         // Skip points whose nearest surface point is the apex (the distance is not smooth there).
         const Eigen::Vector3d v = p - cone->apex;
@@ -170,8 +171,10 @@ TEST(Subsampling, VoxelMeansOfADenseNoisyPlaneLieCloserToItThanItsPoints) {
   const Eigen::Vector3f normal = Eigen::Vector3f(1, 2, 3).normalized();
   const Eigen::Vector3f e1 = normal.unitOrthogonal(), e2 = normal.cross(e1);
   Eigen::Matrix3Xf x(3, 200000);
-  for (Eigen::Index i = 0; i < x.cols(); ++i)
-    x.col(i) = u(rng) * e1 + u(rng) * e2 + g(rng) * normal;
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    const float off = g(rng), b = u(rng), a = u(rng);  // drawn last term first (randomVector's)
+    x.col(i) = a * e1 + b * e2 + off * normal;
+  }
   const Subsample s = voxelSample(x, 0.05);
   const RepresentedMean mean = representedMean(x, s);
   std::vector<double> d;

@@ -6,6 +6,7 @@
 #include "points_cloud.h"
 #include "segment_cloud.h"
 
+#include "slipfit/sampling/random_vector.h"
 #include "slipfit/segmentation/crease_fillet.h"
 
 #include <gtest/gtest.h>
@@ -41,9 +42,13 @@ Bracket bracket(unsigned seed) {
   Bracket b;
   const int planar = static_cast<int>(kDensity * kLength * kWidth);
   for (int i = 0; i < planar; ++i) {
-    p.emplace_back(kLength * u(rng), kRadius + kWidth * u(rng), noise(rng));
+    // Drawn z, y, x (randomVector's order).
+    double z = noise(rng), y = kRadius + kWidth * u(rng);
+    p.emplace_back(kLength * u(rng), y, z);
     b.part.push_back(0);
-    p.emplace_back(kLength * u(rng), noise(rng), kRadius + kWidth * u(rng));
+    z = kRadius + kWidth * u(rng);
+    y = noise(rng);
+    p.emplace_back(kLength * u(rng), y, z);
     b.part.push_back(1);
   }
   const int curved = static_cast<int>(kDensity * kLength * 0.5 * M_PI * kRadius);

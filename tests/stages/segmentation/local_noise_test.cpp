@@ -4,6 +4,7 @@
 #include "points_cloud.h"
 #include "segment_cloud.h"
 
+#include "slipfit/sampling/random_vector.h"
 #include "slipfit/sampling/range_scanner.h"
 #include "slipfit/segmentation/segmentation_metrics.h"
 
@@ -31,12 +32,15 @@ TwoNoises groundAndNoisyWall(unsigned seed) {
   std::vector<Eigen::Vector3d> p;
   for (int i = 0; i < 200; ++i)
     for (int j = 0; j < 200; ++j) {
-      p.emplace_back(0.02 + 0.01 * i + jitter(rng), 0.01 * j + jitter(rng), ground_noise(rng));
+      // Drawn z, y, x (randomVector's order).
+      const double z = ground_noise(rng), y = 0.01 * j + jitter(rng);
+      p.emplace_back(0.02 + 0.01 * i + jitter(rng), y, z);
       t.labels.push_back(0);
     }
   for (int j = 0; j < 100; ++j)
     for (int k = 0; k < 50; ++k) {
-      p.emplace_back(wall_noise(rng), 0.02 * j + jitter(rng), 0.02 + 0.02 * k + jitter(rng));
+      const double z = 0.02 + 0.02 * k + jitter(rng), y = 0.02 * j + jitter(rng);
+      p.emplace_back(wall_noise(rng), y, z);
       t.labels.push_back(1);
     }
   t.points.resize(3, static_cast<Eigen::Index>(p.size()));

@@ -9,6 +9,7 @@
 #include "slipfit/core/cloud_maps.h"
 #include "slipfit/filters/subsampling.h"
 #include "slipfit/sampling/primitive_sampler.h"
+#include "slipfit/sampling/random_vector.h"
 #include "slipfit/slippage/local_slippage.h"
 
 #include <gtest/gtest.h>
@@ -166,8 +167,10 @@ TEST(SegmentationCarryBack, AtATangentFilletThePointsAroundARepresentativeDecide
     full.push_back(q);
     truth.push_back(label);
   };
-  for (int i = 0; i < 20000; ++i)  // the plane, 0.1 × 0.2
-    add(Eigen::Vector3d(-0.1 * unit(rng), length * unit(rng), noise(rng)), 0);
+  for (int i = 0; i < 20000; ++i) {  // the plane, 0.1 × 0.2; drawn z, y, x (randomVector's order)
+    const double z = noise(rng), y = length * unit(rng);
+    add(Eigen::Vector3d(-0.1 * unit(rng), y, z), 0);
+  }
   for (int i = 0; i < 31416; ++i) {  // the quarter cylinder, 0.157 × 0.2
     const double phi = M_PI / 2 * unit(rng), rho = r + noise(rng);
     add(Eigen::Vector3d(rho * std::sin(phi), length * unit(rng), r - rho * std::cos(phi)), 1);

@@ -5,6 +5,7 @@
 
 #include "points_cloud.h"
 #include "segment_cloud.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <gtest/gtest.h>
 
@@ -68,8 +69,10 @@ Shell conicalShell(double thickness, bool meshed, unsigned seed) {
     }
   } else {
     const double t0 = kApexDepth, t1 = kApexDepth + kTop;
-    for (int i = 0; i < 6000; ++i)
-      add(std::sqrt(t0 * t0 + u(rng) * (t1 * t1 - t0 * t0)), 2.0 * M_PI * u(rng));
+    for (int i = 0; i < 6000; ++i) {
+      const Eigen::Vector2d w = randomVector<2>(u, rng);
+      add(std::sqrt(t0 * t0 + w(0) * (t1 * t1 - t0 * t0)), 2.0 * M_PI * w(1));
+    }
   }
   // Tilted: rings at regular heights along a coordinate axis would read as depth levels.
   const Eigen::Matrix3d tilt =

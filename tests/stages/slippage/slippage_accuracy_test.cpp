@@ -6,6 +6,7 @@
 
 #include "slipfit/core/angle_units.h"
 #include "slipfit/sampling/primitive_sampler.h"
+#include "slipfit/sampling/random_vector.h"
 #include "slipfit/slippage/shape_classification.h"
 #include "slipfit/slippage/slippage.h"
 
@@ -33,9 +34,9 @@ Trial makeTrial(int i, double noise_fraction, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
   const double sizes[] = {1e-3, 1.0, 1e3};
   const double size = sizes[i % 3];
-  const Eigen::Vector3d axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
-  const Eigen::Vector3d where = (i % 3 == 1 ? 1e4 : 0.0) * Eigen::Vector3d::Ones() +
-                                size * Eigen::Vector3d(u(rng), u(rng), u(rng));
+  const Eigen::Vector3d axis = randomVector<3>(u, rng).normalized();
+  const Eigen::Vector3d where =
+      (i % 3 == 1 ? 1e4 : 0.0) * Eigen::Vector3d::Ones() + size * randomVector<3>(u, rng);
   PrimitiveSamplingParameters p;
   p.points = 2000;
   p.seed = 1000 + static_cast<std::uint64_t>(i);

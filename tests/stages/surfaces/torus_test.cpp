@@ -2,6 +2,7 @@
 #include "slipfit/core/angle_units.h"
 
 #include "slipfit/core/exceptions.h"
+#include "slipfit/sampling/random_vector.h"
 
 #include <gtest/gtest.h>
 
@@ -94,7 +95,7 @@ TEST(Nurbs, ClampedWithoutInnerKnotsEqualsTheRationalBezierPatch) {
   std::vector<double> weights;
   std::vector<HomogeneousPoint> sites;
   for (int k = 0; k < 12; ++k) {
-    points.emplace_back(c(rng), c(rng), c(rng));
+    points.push_back(randomVector<3>(c, rng));
     weights.push_back(w(rng));
     HomogeneousPoint h;
     h << weights.back(), weights.back() * points.back();
