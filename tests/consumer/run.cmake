@@ -9,10 +9,12 @@ function(run)
   endif()
   message(STATUS "${out}")
 endfunction()
-# A sanitizer build's libraries need the consumer linked with the same runtime.
+# A sanitizer build's libraries need the consumer built by the same compiler and linked with the
+# same runtime.
 function(consumer name)
   run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/${name} -DCMAKE_BUILD_TYPE=Release
-    "-DCMAKE_CXX_FLAGS=${CONSUMER_FLAGS}" "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_FLAGS}" ${ARGN})
+    -DCMAKE_CXX_COMPILER=${CXX_COMPILER} "-DCMAKE_CXX_FLAGS=${CONSUMER_FLAGS}"
+    "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_FLAGS}" ${ARGN})
   run(${CMAKE_COMMAND} --build ${WORK_DIR}/${name})
   run(${WORK_DIR}/${name}/consumer)
 endfunction()

@@ -88,6 +88,9 @@ TEST(PrimitiveFitting, CoefficientsMeanTheSameToPclsSacModels) {
         d = maxPclDistance<pcl::SampleConsensusModelCone<pcl::PointNormal, pcl::PointNormal>>(cloud,
                                                                                               c);
         break;
+      case PrimitiveType::torus:  // PCL 1.13 has no torus model; the shapes above hold none
+        ADD_FAILURE() << "no PCL model to read a torus with";
+        break;
     }
     EXPECT_LT(d, 1e-4) << primitiveTypeName(typeOf(shape))
                        << ": PCL reads the coefficients differently";
