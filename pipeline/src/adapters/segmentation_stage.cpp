@@ -116,6 +116,7 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
       throw RunError("segmentation: some points are not finite");
     SegmentationParameters parameters = parameters_;
     parameters.threads = context.threads;
+    parameters.sensor_view = data.sensor.has_value();  // organized, or a PCD's VIEWPOINT
     // The PCL front end, called as a PCL application calls it (the analysis copies in doubles
     // live only inside segment()).
     SlippageSegmentation<pcl::PointNormal> segmentation;

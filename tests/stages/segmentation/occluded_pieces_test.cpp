@@ -1,7 +1,8 @@
-// Phase 13 (join_occluded_pieces, issue 34): on a sensor's frame (depth on levels), two pieces of
-// one surface that an occluder cut apart are one segment; two parallel surfaces a few σ apart and
-// two pieces further apart than they are wide stay apart, and so do two coplanar faces of a cloud
-// without levels, noise-free (a CAD part) or noisy (a sparse CAD part's σ̂ reaches s/20).
+// Phase 13 (join_occluded_pieces, issue 34): on a sensor's frame (depth on levels, or a cloud
+// with a sensor pose), two pieces of one surface that an occluder cut apart are one segment; two
+// parallel surfaces a few σ apart and two pieces further apart than they are wide stay apart, and
+// so do two coplanar faces of a cloud with neither levels nor a sensor pose, noise-free (a CAD
+// part) or noisy (a sparse CAD part's σ̂ reaches s/20).
 #include "segment_cloud.h"
 
 #include <gtest/gtest.h>
@@ -113,6 +114,24 @@ TEST(OccludedPieces, CoplanarFacesOfANoisyCloudWithoutLevelsStayTwo) {
   const auto cloud = twoPieces(0.3, 0.2, 0.0, kSigma, 0.0);
   const SegmentationResult r = testing::segmentCloud(cloud, 12).result;
   ASSERT_FALSE(r.lattice.detected());
+  EXPECT_EQ(largeSegments(r, cloud->size()), 2u);
+}
+
+TEST(OccludedPieces, PiecesOfASensorsViewWithoutLevelsAreOneSegment) {
+  // The same noisy cloud with a sensor pose (PCL's sensor_origin_, as a LiDAR scan's PCD carries
+  // its VIEWPOINT): a sensor's view, so the pieces an occluder cut apart are joined.
+  const auto cloud = twoPieces(0.3, 0.2, 0.0, kSigma, 0.0);
+  cloud->sensor_origin_ = Eigen::Vector4f(0.4f, 0.2f, 3.0f, 0.0f);
+  const SegmentationResult r = testing::segmentCloud(cloud, 12).result;
+  ASSERT_FALSE(r.lattice.detected());
+  EXPECT_EQ(largeSegments(r, cloud->size()), 1u);
+  EXPECT_GE(largestShare(r, cloud->size()), 0.99);
+}
+
+TEST(OccludedPieces, ParallelPlanesOfASensorsViewSixSigmaApartStayTwo) {
+  const auto cloud = twoPieces(0.3, 0.2, 6.0 * kSigma, kSigma, 0.0);
+  cloud->sensor_origin_ = Eigen::Vector4f(0.4f, 0.2f, 3.0f, 0.0f);
+  const SegmentationResult r = testing::segmentCloud(cloud, 12).result;
   EXPECT_EQ(largeSegments(r, cloud->size()), 2u);
 }
 

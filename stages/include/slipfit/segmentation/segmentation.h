@@ -59,6 +59,11 @@ struct SegmentationParameters {
   /// OpenMP threads for the fits tried in parallel (the result does not depend on them); 0 means as
   /// many as the machine has.
   int threads = 0;
+  /// The cloud is a range sensor's view (an organized scan, or one with a sensor pose): pieces of
+  /// one surface that an occluder cut apart are joined (phase 13), as on depth recorded on levels.
+  /// Not a YAML option: the pipeline sets it from the input, and SlippageSegmentation from its
+  /// cloud (organized, or a sensor_origin_ / sensor_orientation_ other than PCL's defaults).
+  bool sensor_view = false;
 
   /// Each user-facing field with its one declaration (parameter_declaration.h).
   template <typename Self, typename Visit>

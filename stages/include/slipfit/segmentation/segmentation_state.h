@@ -40,10 +40,10 @@ struct SegmentationState {
   /// Each point's noise σᵢ (units): the local estimate where the cloud is a sensor's (noisy, or
   /// depth on levels), else the cloud's σ̂. Empty when the distance tolerance was given.
   std::vector<double> noise;
-  /// A sensor's frame: depth recorded on levels, the tolerance automatic. Two pieces of one
-  /// surface there were cut apart by an occluder; on a CAD part they are two faces (phase 13).
-  /// Noise alone does not tell: a sparse CAD part's σ̂ reaches s/20 (Fit4CAD's PC113, whose two
-  /// coaxial cylinders of one radius are two faces).
+  /// A sensor's frame: depth recorded on levels or a sensor's view (parameters.sensor_view), the
+  /// tolerance automatic. Two pieces of one surface there were cut apart by an occluder; on a CAD
+  /// part they are two faces (phase 13). Noise alone does not tell: a sparse CAD part's σ̂ reaches
+  /// s/20 (Fit4CAD's PC113, whose two coaxial cylinders of one radius are two faces).
   bool sensor_frame = false;
 
   // ---- the regions ----------------------------------------------------------------------------

@@ -314,8 +314,11 @@ void estimateScale(SegmentationState& s) {
   // On depth recorded on levels the tolerance keeps its model (the local step), but each point's
   // σ is its own: the widened neighborhoods span the levels, so their residual is the sensor's
   // noise and rounding together, which grow with depth (about a third of the local step at 2 m on
-  // the simulated Kinect).
-  s.sensor_frame = !s.parameters.distance && s.result.lattice.detected();
+  // the simulated Kinect). A sensor's frame: depth on levels, or a view the caller says is a
+  // sensor's (a LiDAR scan has no levels, and its noise alone does not tell it from a sparse CAD
+  // part).
+  s.sensor_frame =
+      !s.parameters.distance && (s.result.lattice.detected() || s.parameters.sensor_view);
   if (!s.parameters.distance && s.noise.empty())
     s.noise = s.result.lattice.detected() ? localNoise(s.hoods, scale, s.n, false)
                                           : std::vector<double>(s.n, scale.noise);

@@ -60,7 +60,13 @@ void SlippageSegmentation<PointT>::segment(std::vector<pcl::PointIndices>& clust
       }
     subset.append(ids.data(), sqr.data(), ids.size());
   }
-  result_ = segmentBySlippage(points, normals, whole ? *neighborhoods_ : subset, types, parameters_,
+  // A sensor's view, as PCL records one: an organized cloud, or a sensor pose set.
+  SegmentationParameters parameters = parameters_;
+  parameters.sensor_view =
+      parameters.sensor_view || input_->isOrganized() ||
+      input_->sensor_origin_.template head<3>() != Eigen::Vector3f::Zero() ||
+      input_->sensor_orientation_.coeffs() != Eigen::Quaternionf::Identity().coeffs();
+  result_ = segmentBySlippage(points, normals, whole ? *neighborhoods_ : subset, types, parameters,
                               on_phase_);
   if (!whole) {
     // Back to cloud indices: labels for every cloud point (−1 outside the indices).
