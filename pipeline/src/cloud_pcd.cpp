@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,68 @@ const Field* findField(const pcl::PCLPointCloud2& blob, const char* name, std::u
     if (f.name == name && f.datatype == datatype && f.count == 1)
       return &f;
   return nullptr;
+}
+
+/// \a rows (one per point of \a data) scattered to their pixels of the sensor's width × height
+/// grid, as an organized cloud: a pixel without a point holds NaN in every float field and zero
+/// in the others (PCL's organized clouds mark a missing return by NaN coordinates). \a rows
+/// unchanged when \a data is no organized view (no grid, or its points are not one per pixel).
+pcl::PCLPointCloud2 organized(const PointData& data, pcl::PCLPointCloud2 rows) {
+  if (!data.sensor || data.sensor->height <= 1 || data.pixels.size() != rows.width * rows.height)
+    return rows;
+  const std::size_t cells = std::size_t{data.sensor->width} * data.sensor->height;
+  std::vector<char> taken(cells, 0);
+  for (const std::int32_t p : data.pixels) {
+    if (p < 0 || static_cast<std::size_t>(p) >= cells || taken[static_cast<std::size_t>(p)])
+      return rows;
+    taken[static_cast<std::size_t>(p)] = 1;
+  }
+  pcl::PCLPointCloud2 grid;
+  grid.header = rows.header;
+  grid.fields = rows.fields;
+  grid.point_step = rows.point_step;
+  grid.is_bigendian = rows.is_bigendian;
+  grid.width = data.sensor->width;
+  grid.height = data.sensor->height;
+  grid.row_step = grid.point_step * grid.width;
+  grid.is_dense = false;
+  // One empty pixel's record, copied to every pixel before the points are.
+  std::vector<std::uint8_t> empty(rows.point_step, 0);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const double nan_double = std::numeric_limits<double>::quiet_NaN();
+  for (const Field& f : rows.fields)
+    for (std::uint32_t c = 0; c < std::max<std::uint32_t>(f.count, 1); ++c) {
+      if (f.datatype == Field::FLOAT32)
+        std::memcpy(empty.data() + f.offset + 4 * c, &nan, 4);
+      else if (f.datatype == Field::FLOAT64)
+        std::memcpy(empty.data() + f.offset + 8 * c, &nan_double, 8);
+    }
+  grid.data.resize(cells * grid.point_step);
+  for (std::size_t k = 0; k < cells; ++k)
+    std::memcpy(grid.data.data() + k * grid.point_step, empty.data(), grid.point_step);
+  for (std::size_t i = 0; i < data.pixels.size(); ++i)
+    std::memcpy(grid.data.data() + static_cast<std::size_t>(data.pixels[i]) * grid.point_step,
+                rows.data.data() + i * rows.point_step, rows.point_step);
+  return grid;
+}
+
+/// Cuts the zeros PCL 1.13's PCDWriter::writeBinary leaves after a PCLPointCloud2's data (up to
+/// a page): the file ends where its \a data_bytes of data do.
+void dropPadding(const std::string& path, std::size_t data_bytes) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  const std::string mark = "\nDATA binary\n";
+  const std::size_t at = head.find(mark);
+  if (at == std::string::npos)
+    throw RunError("output '" + path + "': PCL's PCD writer wrote no binary data");
+  const std::uintmax_t end = at + mark.size() + data_bytes;
+  std::error_code ec;
+  if (std::filesystem::file_size(path, ec) > end)
+    std::filesystem::resize_file(path, end, ec);
+  if (ec)
+    throw RunError("output '" + path + "': " + ec.message());
 }
 
 }  // namespace
@@ -88,7 +152,7 @@ pcl::PCLPointCloud2 toPclConventions(const pcl::PCLPointCloud2& blob) {
 void writeCloudPcd(const PointData& data, const std::string& path) {
   if (data.size() == 0)
     throw RunError("output '" + path + "': no points to write");
-  const pcl::PCLPointCloud2 blob = toPclConventions(toBlob(data));
+  const pcl::PCLPointCloud2 blob = organized(data, toPclConventions(toBlob(data)));
   Eigen::Vector4f origin = Eigen::Vector4f::Zero();
   Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
   if (data.sensor) {
@@ -105,6 +169,7 @@ void writeCloudPcd(const PointData& data, const std::string& path) {
   std::error_code ec;
   if (status != 0 || !std::filesystem::exists(path, ec))
     throw RunError("output '" + path + "': PCL's PCD writer failed (disk full?)");
+  dropPadding(path, blob.data.size());
 }
 
 }  // namespace slipfit::pipeline

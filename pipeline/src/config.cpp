@@ -32,10 +32,11 @@ void OutputSection::declare(OptionSet& o) {
   o.add("dir", dir, "Directory for the outputs; created if missing.");
   o.add("format", format, kPlyEncodingNames, "PLY encoding of the output cloud.");
   o.add("cloud", cloud,
-        "File name of the output cloud inside dir (empty: none, when the stages write what is "
-        "wanted).")
+        "File name of the output cloud inside dir: .ply, or .pcd in PCL's conventions — "
+        "organized (width × height, NaN where no point) with the sensor's VIEWPOINT when the "
+        "cloud is a sensor's view (empty: none, when the stages write what is wanted).")
       .allowEmpty()
-      .fileName(".ply");
+      .fileName(std::vector<std::string>{".ply", ".pcd"});
 }
 
 void TilingSection::declare(OptionSet& o) {

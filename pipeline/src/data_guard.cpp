@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 #include <optional>
+#include <vector>
 
 namespace slipfit::pipeline::detail {
 
@@ -81,14 +82,25 @@ void checkValue(DataLines& lines, ply::Scalar scalar, const std::string& text,
                " holds");
 }
 
-/// The binary data's end must be the file's end.
+/// The most zero bytes PCL's PCD writer leaves after a binary PCD's data.
+constexpr u64 kPclPadding = 4096;
+
+/// The binary data's end must be the file's end, but for up to \a zeros zero bytes after it.
 void checkNoTrailingBytes(const std::string& path, u64 data_end, const std::string& where,
-                          const std::string& what) {
+                          const std::string& what, u64 zeros = 0) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   const auto size = static_cast<u64>(in.tellg());
-  if (in && size > data_end)
-    throw RunError(where + std::to_string(size - data_end) + " bytes follow the " + what +
-                   " the header announces (fix the count or the data)");
+  if (!in || size <= data_end)
+    return;
+  if (size - data_end <= zeros) {
+    std::vector<char> tail(static_cast<std::size_t>(size - data_end));
+    in.seekg(static_cast<std::streamoff>(data_end));
+    if (in.read(tail.data(), static_cast<std::streamsize>(tail.size())) &&
+        std::all_of(tail.begin(), tail.end(), [](char c) { return c == 0; }))
+      return;
+  }
+  throw RunError(where + std::to_string(size - data_end) + " bytes follow the " + what +
+                 " the header announces (fix the count or the data)");
 }
 
 }  // namespace
@@ -165,8 +177,10 @@ void checkPcdData(const std::string& path, u64 data_at, const std::string& stora
     values_per_row += f.count;
   }
   if (storage == "binary") {
-    checkNoTrailingBytes(path, data_at + record * points, where,
-                         std::to_string(points) + " points");
+    // PCL 1.13's PCDWriter::writeBinary of a PCLPointCloud2 leaves a page of zeros (4096 bytes
+    // less the header's) after the data: a file PCL wrote is read.
+    checkNoTrailingBytes(path, data_at + record * points, where, std::to_string(points) + " points",
+                         kPclPadding);
     return;
   }
   if (storage != "ascii")

@@ -14,6 +14,15 @@ namespace slipfit::pipeline {
 
 namespace {
 
+/// Whether \a name ends in \a extension, ignoring case (".PLY" is a PLY).
+bool endsIn(const std::string& name, const std::string& extension) {
+  return name.size() > extension.size() &&
+         std::equal(extension.rbegin(), extension.rend(), name.rbegin(), [](char a, char b) {
+           return std::tolower(static_cast<unsigned char>(a)) ==
+                  std::tolower(static_cast<unsigned char>(b));
+         });
+}
+
 std::string number(double v) {
   return parameterNumberText(v);
 }
@@ -149,26 +158,28 @@ Option& OptionSet::add(std::string name, bool& field, std::string help) {
 }
 
 Option& OptionSet::add(std::string name, std::string& field, std::string help) {
-  return push(std::move(name), "string", field.empty() ? "\"\"" : field, std::move(help),
-              [&field](const YAML::Node& node, const Option& option) {
-                field = scalarText(node, option);
-                if (field.empty() && !option.allowsEmpty())
-                  throw OptionValueError("must not be empty");
-                if (option.isFileName() && (field.find_first_of("/\\") != std::string::npos ||
-                                            field == "." || field == ".."))
-                  throw OptionValueError(
-                      "must be a plain file name inside output.dir (no directory part), got '" +
-                      field + "'");
-                const std::string& ext = option.fileExtension();
-                if (!ext.empty() && !field.empty() &&
-                    (field.size() <= ext.size() ||
-                     !std::equal(ext.rbegin(), ext.rend(), field.rbegin(), [](char a, char b) {
-                       return std::tolower(static_cast<unsigned char>(a)) ==
-                              std::tolower(static_cast<unsigned char>(b));
-                     })))
-                  throw OptionValueError("'" + field + "' must end in " + ext +
-                                         ": slipfit writes this file in that format");
-              });
+  return push(
+      std::move(name), "string", field.empty() ? "\"\"" : field, std::move(help),
+      [&field](const YAML::Node& node, const Option& option) {
+        field = scalarText(node, option);
+        if (field.empty() && !option.allowsEmpty())
+          throw OptionValueError("must not be empty");
+        if (option.isFileName() &&
+            (field.find_first_of("/\\") != std::string::npos || field == "." || field == ".."))
+          throw OptionValueError(
+              "must be a plain file name inside output.dir (no directory part), got '" + field +
+              "'");
+        const std::vector<std::string>& extensions = option.fileExtensions();
+        if (!extensions.empty() && !field.empty() &&
+            std::none_of(extensions.begin(), extensions.end(),
+                         [&](const std::string& ext) { return endsIn(field, ext); })) {
+          std::string listed;
+          for (std::size_t k = 0; k < extensions.size(); ++k)
+            listed += (k == 0 ? "" : k + 1 == extensions.size() ? " or " : ", ") + extensions[k];
+          throw OptionValueError("'" + field + "' must end in " + listed +
+                                 ": slipfit writes this file in that format");
+        }
+      });
 }
 
 Option& OptionSet::add(std::string name, std::optional<int>& field, std::string help) {

@@ -11,8 +11,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <ostream>
@@ -228,7 +230,13 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
   data.expandToFull();  // a subsampled analysis is written for every input point
   if (!config.output.cloud.empty())
     outputs.add(config.output.cloud, [&](const std::string& path) {
-      writeCloudPly(data, path, config.output.format == PlyEncoding::binary);
+      std::string ext = std::filesystem::path(path).extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(),
+                     [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+      if (ext == ".pcd")
+        writeCloudPcd(data, path);
+      else
+        writeCloudPly(data, path, config.output.format == PlyEncoding::binary);
     });
   const auto written = outputs.commit();
   progress.end();

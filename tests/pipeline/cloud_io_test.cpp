@@ -181,6 +181,25 @@ TEST(CloudIo, AcceptsEveryLayoutPclWrites) {
       EXPECT_EQ((*d.cloud)[10].x, 3.0f);
       EXPECT_EQ((*d.cloud)[10].y, 2.0f);
     }
+  // The PCD encodings, from a PCLPointCloud2: PCL 1.13 leaves up to a page of zeros after the
+  // binary data, which is no data past the announced points.
+  for (const int encoding : {0, 1, 2}) {
+    SCOPED_TRACE("PCD encoding " + std::to_string(encoding));
+    const std::string path = testing::scratchFile("organized.pcd", "");
+    pcl::PCDWriter writer;
+    const int status = encoding == 0   ? writer.writeBinary(path, blob)
+                       : encoding == 1 ? writer.writeASCII(path, blob)
+                                       : writer.writeBinaryCompressed(path, blob);
+    ASSERT_EQ(status, 0);
+    const PointData d = readCloud(path, NanPolicy::skip);
+    EXPECT_EQ(d.size(), 11u);
+    EXPECT_EQ((*d.cloud)[10].x, 3.0f);
+    ASSERT_TRUE(d.sensor.has_value());
+    EXPECT_EQ(d.sensor->width, 4u);
+    EXPECT_EQ(d.sensor->height, 3u);
+    ASSERT_EQ(d.pixels.size(), 11u);
+    EXPECT_EQ(d.pixels[10], 11);
+  }
 
   // Hand-written: CRLF line ends, comments, obj_info, colours with alpha, a face element.
   const std::string hand = testing::scratchFile(

@@ -1,7 +1,8 @@
 // What a PCL application reads from slipfit's segmentation outputs, read with PCL's own readers
 // into PCL's point types: segments.ply (colours; its int label is the benchmark scorers' and
 // CloudCompare's convention, −1 = no segment) and the PCD in PCL's conventions (label uint32,
-// 4294967295 = no segment; packed rgb), for each shipped segmentation config.
+// 4294967295 = no segment; packed rgb), for each shipped segmentation config; organized PCDs of
+// a sensor's view.
 #include "run_cli.h"
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/render/segment_palette.h"
@@ -15,6 +16,7 @@
 #include <pcl/point_types.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -137,6 +139,88 @@ TEST(PclInterop, InputColoursAreKeptUnderInputNamesAndPclShowsTheSegments) {
     wrong_input += (bits & 0xffffffu) != std::uint32_t{12 << 16 | 34 << 8 | 56} ? 1 : 0;
   }
   EXPECT_EQ(wrong_input, 0u);
+}
+
+// A sensor's organized view written as PCD is organized in PCL's way — width × height, NaN where
+// the sensor had no return, its pose as VIEWPOINT — and read back it is the same view: the same
+// points at the same pixels (the PLY's grid_index), the sensor's pose and grid. The segments PCD
+// of that view is a label image of the same grid, each pixel's label the PLY row's.
+TEST(PclInterop, AnOrganizedViewIsWrittenAsAnOrganizedPcdAndReadBackAsTheSameView) {
+  // A terrestrial LiDAR's angular grid: its pose is not the identity at the origin (a depth
+  // camera's frame is in its own coordinates).
+  const std::string scan = " --set scan.sensor=lidar --set scan.scene=yard --set scan.width=160 "
+                           "--set scan.height=120 --set seed=4";
+  const std::string as_ply = scratchDir("pcl_interop_scan_ply");
+  const std::string as_pcd = scratchDir("pcl_interop_scan_pcd");
+  const std::string segmented = scratchDir("pcl_interop_scan_segments");
+  CliResult r =
+      runSlipfit("run configs/sample_scan.yaml --quiet" + scan + " --set output.dir=" + as_ply);
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = runSlipfit("run configs/sample_scan.yaml --quiet" + scan +
+                 " --set output.cloud=cloud.pcd --set output.dir=" + as_pcd);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const pipeline::PointData rows =
+      pipeline::readCloud(as_ply + "/cloud.ply", pipeline::NanPolicy::error);
+  const std::vector<double> cell = rows.numericField("grid_index");
+  ASSERT_GT(rows.size(), 1000u);
+
+  pcl::PointCloud<pcl::PointXYZ> grid;
+  ASSERT_EQ(pcl::io::loadPCDFile(as_pcd + "/cloud.pcd", grid), 0);
+  EXPECT_EQ(grid.width, 160u);
+  EXPECT_EQ(grid.height, 120u);
+  EXPECT_FALSE(grid.is_dense);
+  std::size_t finite = 0;
+  for (const auto& p : grid)
+    finite += std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) ? 1 : 0;
+  EXPECT_EQ(finite, rows.size()) << "one finite pixel per return, NaN elsewhere";
+  std::size_t moved = 0;
+  for (std::size_t j = 0; j < rows.size(); ++j)
+    moved += grid[static_cast<std::size_t>(cell[j])].getVector3fMap() !=
+                     (*rows.cloud)[j].getVector3fMap()
+                 ? 1
+                 : 0;
+  EXPECT_EQ(moved, 0u) << "returns not at their grid_index pixel";
+  EXPECT_GT(grid.sensor_origin_.head<3>().norm(), 1.0f) << "the scanner's pose is not recorded";
+
+  // slipfit reads the PCD back as the sensor's view: its rows, pixels and pose.
+  const pipeline::PointData view =
+      pipeline::readCloud(as_pcd + "/cloud.pcd", pipeline::NanPolicy::skip);
+  ASSERT_EQ(view.size(), rows.size());
+  ASSERT_TRUE(view.sensor.has_value());
+  EXPECT_EQ(view.sensor->width, 160u);
+  EXPECT_EQ(view.sensor->height, 120u);
+  EXPECT_TRUE(view.sensor->origin.isApprox(grid.sensor_origin_.head<3>().cast<double>(), 1e-6));
+  ASSERT_EQ(view.pixels.size(), rows.size());
+  std::size_t wrong_pixel = 0;
+  for (std::size_t j = 0; j < rows.size(); ++j)
+    wrong_pixel += view.pixels[j] != static_cast<std::int32_t>(cell[j]) ? 1 : 0;
+  EXPECT_EQ(wrong_pixel, 0u);
+
+  r = runSlipfit("run configs/demo.yaml --quiet --set input.path=" + as_pcd +
+                 "/cloud.pcd --set segments.pcd=segments.pcd --set segments.render='' "
+                 "--set output.dir=" +
+                 segmented);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::vector<std::int32_t> labels = labelsOf(segmented + "/segments.ply");
+  ASSERT_EQ(labels.size(), rows.size());
+  pcl::PointCloud<pcl::PointXYZRGBL> image;
+  ASSERT_EQ(pcl::io::loadPCDFile(segmented + "/segments.pcd", image), 0);
+  ASSERT_EQ(image.width, 160u);
+  ASSERT_EQ(image.height, 120u);
+  constexpr std::uint32_t kNoSegment = std::numeric_limits<std::uint32_t>::max();
+  std::size_t wrong_label = 0;
+  for (std::size_t j = 0; j < rows.size(); ++j) {
+    const std::uint32_t expected =
+        labels[j] < 0 ? kNoSegment : static_cast<std::uint32_t>(labels[j]);
+    wrong_label += image[static_cast<std::size_t>(cell[j])].label != expected ? 1 : 0;
+  }
+  EXPECT_EQ(wrong_label, 0u);
+}
+
+TEST(PclInterop, ACloudIsWrittenAsPlyOrPcdOnly) {
+  const CliResult r = runSlipfit("validate configs/sample_scan.yaml --set output.cloud=cloud.las");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr("'cloud.las' must end in .ply or .pcd"));
 }
 
 TEST(PclInterop, ATiledRunRefusesOutputsItDoesNotJoin) {

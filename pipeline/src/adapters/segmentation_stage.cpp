@@ -42,7 +42,8 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
         .fileName(".ply");
     o.add("pcd", pcd_,
           "File name of a PCD of the same points in PCL's conventions: label as uint32 "
-          "(4294967295: no segment), the segment colour as packed rgb (empty: none).")
+          "(4294967295: no segment), the segment colour as packed rgb; organized like the input "
+          "when that was a sensor's organized view (empty: none).")
         .allowEmpty()
         .fileName(".pcd");
     o.add("las", las_,
@@ -251,6 +252,7 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
     view.cloud = data.cloud;
     view.frame = data.frame;
     view.sensor = data.sensor;  // the PCD's VIEWPOINT
+    view.pixels = data.pixels;  // an organized input gives an organized PCD (a label image)
     view.has_normals = true;
     view.extra = data.extra;  // the input's own fields (colour, intensity, labels) come along
     for (const char* name : {"label", "primitive", "red", "green", "blue"})

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -98,12 +99,19 @@ class Option {
   /// A file name in the output directory (no path); with \a extension, one that ends in it (the
   /// format slipfit writes the file in: a cloud named .pcd would still be PLY).
   Option& fileName(std::string extension = "") {
+    return fileName(std::vector<std::string>{std::move(extension)});
+  }
+  /// A file name ending in one of \a extensions (the formats slipfit can write it in).
+  Option& fileName(std::vector<std::string> extensions) {
     file_name_ = true;
-    extension_ = std::move(extension);
+    extensions_ = std::move(extensions);
+    extensions_.erase(std::remove(extensions_.begin(), extensions_.end(), std::string()),
+                      extensions_.end());
     return *this;
   }
   bool isFileName() const { return file_name_; }
-  const std::string& fileExtension() const { return extension_; }
+  /// The extensions a file name may end in; empty: any.
+  const std::vector<std::string>& fileExtensions() const { return extensions_; }
 
  private:
   Option& lowBound(double lo, bool open) {
@@ -115,7 +123,8 @@ class Option {
     return *this;
   }
 
-  std::string name_, type_, default_, help_, unit_, extension_;
+  std::string name_, type_, default_, help_, unit_;
+  std::vector<std::string> extensions_;
   ParameterRange range_;
   bool required_ = false;
   bool allow_empty_ = false;
