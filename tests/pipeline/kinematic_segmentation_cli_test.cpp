@@ -115,7 +115,10 @@ TEST(KinematicSegmentation, TurnedAndExtrudedPartsAreOneSegmentEach) {
   for (std::size_t t = 0; t < s.score.iou.size(); ++t)
     if (s.truth_types[t] == 5 || s.truth_types[t] == 6)
       EXPECT_GE(s.score.iou[t], 0.98) << "truth " << t;
-  // The same scene with the five primitives: the turned part and the extrusion in pieces.
+}
+
+// The same scene with the five primitives: the turned part and the extrusion in pieces.
+TEST(KinematicSegmentation, TheFivePrimitivesLeaveTurnedAndExtrudedPartsInPieces) {
   const Scored primitives = run(1, 30000, "primitives");
   for (std::size_t t = 0; t < primitives.score.iou.size(); ++t)
     if (primitives.truth_types[t] >= 5)
