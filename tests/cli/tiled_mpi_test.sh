@@ -9,7 +9,7 @@ cd "$(dirname "$0")/../.."
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$slipfit" run configs/sample_scene.yaml --quiet --set scene.layout=random --set scene.shapes=30 \
-  --set scene.points=200000 --set scene.noise=0.002 --set seed=17 --set output.dir="$work/scene"
+  --set scene.points=100000 --set scene.noise=0.002 --set seed=17 --set output.dir="$work/scene"
 loud=(run configs/demo.yaml --set input.path="$work/scene/cloud.ply" --set tiling.size=8
       --set threads=1)
 run=("${loud[@]}" --quiet)
