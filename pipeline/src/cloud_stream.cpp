@@ -7,7 +7,9 @@
 #include "ply/ply_header.h"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -180,13 +182,28 @@ void CloudStream::parsePcd() {
   std::vector<std::string> fields, sizes, types, counts;
   std::uint64_t width = 0, height = 1;
   bool has_points = false;
+  // PCL's default VIEWPOINT: the identity at the origin.
+  std::array<double, 7> viewpoint = {0, 0, 0, 1, 0, 0, 0};
   std::vector<std::string> w;
   while (headerLine(line, w, number)) {
     const std::string at = "line " + std::to_string(number) + ": ";
     if (w.empty() || w[0][0] == '#')
       continue;
     const std::vector<std::string> rest(w.begin() + 1, w.end());
-    if (w[0] == "VERSION" || w[0] == "VIEWPOINT")
+    if (w[0] == "VIEWPOINT") {
+      // As PCL reads it; a line it cannot read leaves the default, as PCL's reader does.
+      std::array<double, 7> v{};
+      bool read = rest.size() == 7;
+      for (std::size_t k = 0; read && k < 7; ++k) {
+        char* end = nullptr;
+        v[k] = std::strtod(rest[k].c_str(), &end);
+        read = end && *end == '\0' && std::isfinite(v[k]);
+      }
+      if (read)
+        viewpoint = v;
+      continue;
+    }
+    if (w[0] == "VERSION")
       continue;
     if (w[0] == "FIELDS" || w[0] == "COLUMNS")
       fields = rest;
@@ -245,6 +262,14 @@ void CloudStream::parsePcd() {
       if (!has_points)
         points_ = width * height;
       data_offset_ = static_cast<std::uint64_t>(in_.tellg());
+      // A sensor's view as readCloud tells it (cloud_io.cpp, sensorPose): organized, or posed.
+      const bool posed = viewpoint[0] != 0.0 || viewpoint[1] != 0.0 || viewpoint[2] != 0.0 ||
+                         viewpoint[3] != 1.0 || viewpoint[4] != 0.0 || viewpoint[5] != 0.0 ||
+                         viewpoint[6] != 0.0;
+      const double q = std::sqrt(viewpoint[3] * viewpoint[3] + viewpoint[4] * viewpoint[4] +
+                                 viewpoint[5] * viewpoint[5] + viewpoint[6] * viewpoint[6]);
+      if ((height > 1 || posed) && q > 0.0)
+        sensor_ = viewpoint;
       return;
     } else if (w[0] != "WIDTH" && w[0] != "HEIGHT") {
       fail(at + "not a PLY or PCD header line: '" + line + "'");

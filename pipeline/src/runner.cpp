@@ -150,6 +150,13 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
     const auto start = std::chrono::steady_clock::now();
     ReadReport read;
     data = readCloud(config.input.path, config.input.nan, &read);
+    if (!data.sensor && config.input.sensor) {
+      const auto& v = *config.input.sensor;
+      SensorPose pose;  // unorganized: no rows and columns
+      pose.origin = Eigen::Vector3d(v[0], v[1], v[2]) - data.frame.shift;
+      pose.orientation = Eigen::Quaterniond(v[3], v[4], v[5], v[6]).normalized();
+      data.sensor = pose;
+    }
     progress.end();
     points = data.size();
     const std::size_t normals_dropped = settleMissingNormals(config, read, data);

@@ -444,6 +444,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       // output, no output cloud, no picture, its share of the threads, the untiled sampling.
       PipelineConfig tile_config = loadConfig(config.path, overrides);
       tile_config.input.path = tiles_dir + "/" + tile.name() + ".ply";
+      tile_config.input.sensor = manifest.sensor;  // a tile of a sensor's view is one too
       tile_config.output.dir = run_dir;
       tile_config.output.cloud.clear();
       tile_config.tiling.size = 0.0;

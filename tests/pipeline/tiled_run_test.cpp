@@ -589,5 +589,39 @@ TEST(TiledRun, FailuresSayWhatFailedAndWriteNoOutput) {
   EXPECT_THAT(r.err, HasSubstr("--set tiling.buffer=2: section 'tiling': buffer must be under"));
 }
 
+// A tile of a sensor's view is one too: the organized PCD's VIEWPOINT goes into the manifest and
+// every tile is run with that sensor (a tile file, PLY, carries none). The demo orients normals
+// toward the input's sensor, and without one toward a scanner above ([0, 0, 10]): for a depth
+// camera's frame, in its own coordinates, 96 % of the normals would then face away from it.
+TEST(TiledRun, ATileOfASensorsViewIsOneToo) {
+  const std::string scan = scratchDir("tiled_sensor_scan"), tiled = scratchDir("tiled_sensor");
+  CliResult r = runSlipfit(
+      "run configs/sample_scan.yaml --quiet --set scan.width=160 --set scan.height=120 "
+      "--set seed=5 --set output.cloud=cloud.pcd --set output.dir=" +
+      scan);
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = runSlipfit(
+      "run configs/demo.yaml --quiet --set input.path=" + scan +
+      "/cloud.pcd --set tiling.size=1 --set segments.render='' --set output.dir=" + tiled);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const YAML::Node manifest = YAML::LoadFile(tiled + "/tiles/manifest.yaml");
+  ASSERT_GE(manifest["tiles"].size(), 4u);
+  ASSERT_TRUE(manifest["sensor"].IsSequence());
+  ASSERT_EQ(manifest["sensor"].size(), 7u);
+  const pipeline::PointData d =
+      pipeline::readCloud(tiled + "/segments.ply", pipeline::NanPolicy::error);
+  ASSERT_GT(d.size(), 10000u);
+  std::size_t away = 0, normals = 0;
+  for (const auto& p : *d.cloud) {
+    const Eigen::Vector3f n = p.getNormalVector3fMap();
+    if (!n.allFinite())
+      continue;
+    ++normals;
+    away += n.dot(-p.getVector3fMap()) <= 0.0f ? 1 : 0;  // the camera at the origin
+  }
+  EXPECT_GT(normals, d.size() / 2);
+  EXPECT_EQ(away, 0u) << "of " << normals << " normals face away from the camera";
+}
+
 }  // namespace
 }  // namespace slipfit::testing

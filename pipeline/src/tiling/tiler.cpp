@@ -116,6 +116,7 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
   m.size = grid.size();
   m.buffer = grid.buffer();
   m.double_coordinates = in.doubleCoordinates();
+  m.sensor = in.sensor();
   for (int a = 0; a < 3; ++a) {
     m.lo[a] = std::numeric_limits<double>::infinity();
     m.hi[a] = -std::numeric_limits<double>::infinity();
@@ -273,7 +274,7 @@ std::string manifestText(const TilingManifest& m) {
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap;
-  out << YAML::Key << "slipfit_tiling" << YAML::Value << 3;
+  out << YAML::Key << "slipfit_tiling" << YAML::Value << 4;
   out << YAML::Key << "input" << YAML::Value << m.input;
   out << YAML::Key << "input_bytes" << YAML::Value << m.input_bytes;
   out << YAML::Key << "input_mtime" << YAML::Value << m.input_mtime;
@@ -286,6 +287,12 @@ std::string manifestText(const TilingManifest& m) {
       << m.lo[2] << YAML::EndSeq;
   out << YAML::Key << "hi" << YAML::Value << YAML::Flow << YAML::BeginSeq << m.hi[0] << m.hi[1]
       << m.hi[2] << YAML::EndSeq;
+  if (m.sensor) {
+    out << YAML::Key << "sensor" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (const double v : *m.sensor)
+      out << v;
+    out << YAML::EndSeq;
+  }
   out << YAML::Key << "tiles" << YAML::Value << YAML::BeginSeq;
   for (const TileInfo& t : m.tiles)
     out << YAML::Flow << YAML::BeginSeq << t.key.i << t.key.j << t.points << t.core << t.bytes
@@ -299,7 +306,7 @@ bool readManifest(const std::string& path, TilingManifest& m) {
     return false;
   try {
     const YAML::Node n = YAML::LoadFile(path);
-    if (!n.IsMap() || !n["slipfit_tiling"] || n["slipfit_tiling"].as<int>() != 3)
+    if (!n.IsMap() || !n["slipfit_tiling"] || n["slipfit_tiling"].as<int>() != 4)
       return false;
     m.input = n["input"].as<std::string>();
     m.input_bytes = n["input_bytes"].as<std::uint64_t>();
@@ -312,6 +319,13 @@ bool readManifest(const std::string& path, TilingManifest& m) {
     for (int a = 0; a < 3; ++a) {
       m.lo[a] = n["lo"][a].as<double>();
       m.hi[a] = n["hi"][a].as<double>();
+    }
+    m.sensor.reset();
+    if (n["sensor"]) {
+      std::array<double, 7> pose{};
+      for (std::size_t k = 0; k < pose.size(); ++k)
+        pose[k] = n["sensor"][k].as<double>();
+      m.sensor = pose;
     }
     m.tiles.clear();
     for (const auto& t : n["tiles"]) {

@@ -10,8 +10,10 @@
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/tiling/tile_grid.h"
 
+#include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +40,9 @@ struct TilingManifest {
   /// The x, y bounds of the kept points (for the merged report's global shift).
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   bool double_coordinates = false;
+  /// The input's sensor (CloudStream::sensor: origin in the file's coordinates, orientation w, x,
+  /// y, z) when it is a sensor's view: each tile is run as that sensor's view too.
+  std::optional<std::array<double, 7>> sensor;
   std::vector<TileInfo> tiles;  ///< ascending by key; only tiles that own points
 };
 

@@ -10,9 +10,11 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,6 +46,10 @@ class CloudStream {
   std::uint64_t size() const { return points_; }
   /// The file stores x, y, z as double.
   bool doubleCoordinates() const { return coordinate_bytes_ == 8; }
+  /// The sensor of a PCD that is a sensor's view, as readCloud tells it (organized, or a VIEWPOINT
+  /// other than the identity at the origin): its origin in the file's coordinates and its
+  /// orientation (w, x, y, z); empty for other files.
+  const std::optional<std::array<double, 7>>& sensor() const { return sensor_; }
   /// Every property of a row, in the file's order.
   const std::vector<StreamField>& fields() const { return fields_; }
   /// Bytes of one row as readRecords returns it (the sum of the fields' bytes).
@@ -88,6 +94,7 @@ class CloudStream {
   bool started_ = false;                  ///< ascii: the stream stands in the data
   bool coordinate_bytes_set_ = false;
   std::shared_ptr<const las::LasHeader> las_;  ///< LAS: how its records decode
+  std::optional<std::array<double, 7>> sensor_;
 };
 
 }  // namespace slipfit::pipeline

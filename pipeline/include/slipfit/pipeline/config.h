@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,6 +20,9 @@ namespace slipfit::pipeline {
 struct InputSection {
   std::string path;
   NanPolicy nan = NanPolicy::skip;  // PCL's tools drop NaN points (removeNaNFromPointCloud)
+  /// Not an option: the sensor a file that carries none was seen by (origin in the file's
+  /// coordinates, orientation w, x, y, z). A tiled run sets it for its tiles from the input's.
+  std::optional<std::array<double, 7>> sensor;
   void declare(OptionSet& options);
 };
 
