@@ -149,7 +149,7 @@ pcl::PCLPointCloud2 toPclConventions(const pcl::PCLPointCloud2& blob) {
   return out;
 }
 
-void writeCloudPcd(const PointData& data, const std::string& path) {
+void writeCloudPcd(const PointData& data, const std::string& path, bool binary) {
   if (data.size() == 0)
     throw RunError("output '" + path + "': no points to write");
   const pcl::PCLPointCloud2 blob = organized(data, toPclConventions(toBlob(data)));
@@ -162,14 +162,17 @@ void writeCloudPcd(const PointData& data, const std::string& path) {
   pcl::PCDWriter writer;
   int status = -1;
   try {
-    status = writer.writeBinary(path, blob, origin, orientation);
+    // ascii: 17 significant digits, which read back every float and double exactly.
+    status = binary ? writer.writeBinary(path, blob, origin, orientation)
+                    : writer.writeASCII(path, blob, origin, orientation, 17);
   } catch (const std::exception& e) {
     throw RunError("output '" + path + "': " + e.what());
   }
   std::error_code ec;
   if (status != 0 || !std::filesystem::exists(path, ec))
     throw RunError("output '" + path + "': PCL's PCD writer failed (disk full?)");
-  dropPadding(path, blob.data.size());
+  if (binary)
+    dropPadding(path, blob.data.size());
 }
 
 }  // namespace slipfit::pipeline

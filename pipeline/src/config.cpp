@@ -30,7 +30,7 @@ void InputSection::declare(OptionSet& o) {
 
 void OutputSection::declare(OptionSet& o) {
   o.add("dir", dir, "Directory for the outputs; created if missing.");
-  o.add("format", format, kPlyEncodingNames, "PLY encoding of the output cloud.");
+  o.add("format", format, kPlyEncodingNames, "Encoding of the output cloud, PLY or PCD.");
   o.add("cloud", cloud,
         "File name of the output cloud inside dir: .ply, or .pcd in PCL's conventions — "
         "organized (width × height, NaN where no point) with the sensor's VIEWPOINT when the "

@@ -241,7 +241,7 @@ std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& o
       std::transform(ext.begin(), ext.end(), ext.begin(),
                      [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
       if (ext == ".pcd")
-        writeCloudPcd(data, path);
+        writeCloudPcd(data, path, config.output.format == PlyEncoding::binary);
       else
         writeCloudPly(data, path, config.output.format == PlyEncoding::binary);
     });

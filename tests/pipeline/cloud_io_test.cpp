@@ -325,6 +325,37 @@ TEST(CloudIo, OrganizedPcdKeepsItsSensorPose) {
   EXPECT_TRUE(readCloud(ply, NanPolicy::error).pixels.empty());
 }
 
+// A sensor's organized view as PCD, binary and ascii: read back, both are the same view (the
+// rows, their pixels, the grid and the pose) with the same bits in every field.
+TEST(CloudIo, AnOrganizedViewIsThePcdsInBothEncodings) {
+  PointData d = richCloud();
+  SensorPose pose;
+  pose.origin = Eigen::Vector3d(0.25, -1.5, 2.0);
+  pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()));
+  pose.width = 16;
+  pose.height = 20;
+  d.sensor = pose;
+  for (std::size_t i = 0; i < d.size(); ++i)
+    d.pixels.push_back(static_cast<std::int32_t>(i + i / 5));  // 307 at most, of 320 cells
+  const std::string binary = testing::scratchFile("view_binary.pcd", "");
+  const std::string ascii = testing::scratchFile("view_ascii.pcd", "");
+  writeCloudPcd(d, binary, true);
+  writeCloudPcd(d, ascii, false);
+  const PointData b = readCloud(binary, NanPolicy::skip), a = readCloud(ascii, NanPolicy::skip);
+  for (const PointData* r : {&b, &a}) {
+    ASSERT_EQ(r->size(), d.size());
+    ASSERT_TRUE(r->sensor.has_value());
+    EXPECT_EQ(r->sensor->width, 16u);
+    EXPECT_EQ(r->sensor->height, 20u);
+    EXPECT_TRUE(r->sensor->origin.isApprox(pose.origin, 1e-6));
+    EXPECT_LT(r->sensor->orientation.angularDistance(pose.orientation), 1e-6);
+    EXPECT_EQ(r->pixels, d.pixels);
+    for (std::size_t i = 0; i < d.size(); ++i)
+      ASSERT_EQ((*r->cloud)[i].getVector3fMap(), (*d.cloud)[i].getVector3fMap()) << "row " << i;
+  }
+  expectSameBits(b, a);
+}
+
 TEST(CloudIo, BadFilesGiveOneClearError) {
   EXPECT_THAT(readError("/nonexistent/cloud.ply"),
               HasSubstr("input '/nonexistent/cloud.ply': no such file"));

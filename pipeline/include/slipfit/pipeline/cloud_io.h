@@ -65,12 +65,13 @@ pcl::PCLPointCloud2 toBlob(const PointData& data);
 /// OrganizedConnectedComponentSegmentation). Other fields are unchanged.
 pcl::PCLPointCloud2 toPclConventions(const pcl::PCLPointCloud2& blob);
 
-/// Writes the cloud writeCloudPly writes as a binary PCD in PCL's conventions (toPclConventions),
+/// Writes the cloud writeCloudPly writes as a PCD in PCL's conventions (toPclConventions),
 /// with the input sensor's pose as its VIEWPOINT: pcl::io::loadPCDFile reads it into
 /// pcl::PointXYZRGBL, PointXYZLNormal or PointXYZRGBNormal with the labels and colours. A
 /// sensor's organized view (data.sensor with rows, each point's pixel in data.pixels) is written
 /// organized, width × height, NaN where the sensor had no return: read back, it is the same view.
 /// Writes \a path directly; use OutputFiles for the all-or-nothing behaviour.
-void writeCloudPcd(const PointData& data, const std::string& path);
+/// \a binary false: DATA ascii, every value to 17 significant digits.
+void writeCloudPcd(const PointData& data, const std::string& path, bool binary = true);
 
 }  // namespace slipfit::pipeline
