@@ -148,8 +148,9 @@ TEST(PclInterop, InputColoursAreKeptUnderInputNamesAndPclShowsTheSegments) {
 TEST(PclInterop, AnOrganizedViewIsWrittenAsAnOrganizedPcdAndReadBackAsTheSameView) {
   // A terrestrial LiDAR's angular grid: its pose is not the identity at the origin (a depth
   // camera's frame is in its own coordinates).
-  const std::string scan = " --set scan.sensor=lidar --set scan.scene=yard --set scan.width=160 "
-                           "--set scan.height=120 --set seed=4";
+  const std::string scan =
+      " --set scan.sensor=lidar --set scan.scene=yard --set scan.width=160 "
+      "--set scan.height=120 --set seed=4";
   const std::string as_ply = scratchDir("pcl_interop_scan_ply");
   const std::string as_pcd = scratchDir("pcl_interop_scan_pcd");
   const std::string segmented = scratchDir("pcl_interop_scan_segments");
