@@ -7,6 +7,7 @@
 #include "header_guard.h"
 #include "las/las_reader.h"
 #include "ply/ply_header.h"
+#include "sensor_view.h"
 
 #include <pcl/PCLPointField.h>
 #include <pcl/io/pcd_io.h>
@@ -432,10 +433,8 @@ std::vector<std::size_t> keptRows(const GeometryFields& g, std::size_t n, NanPol
 /// The sensor's view of a PCD: organized, or with a VIEWPOINT that is not the identity at the
 /// origin; nullopt otherwise.
 std::optional<SensorPose> sensorPose(const ReadBlob& r, bool pcd, const Eigen::Vector3d& shift) {
-  const bool posed = r.origin.head<3>().squaredNorm() > 0.0f ||
-                     !r.orientation.coeffs().isApprox(Eigen::Quaternionf::Identity().coeffs());
-  if (!(pcd && (r.blob.height > 1 || posed) && r.origin.allFinite() &&
-        r.orientation.coeffs().allFinite() && r.orientation.norm() > 0.0f))
+  if (!pcd ||
+      !isSensorView(r.origin.head<3>().cast<double>(), r.orientation.cast<double>(), r.blob.height))
     return std::nullopt;
   SensorPose sensor;
   sensor.origin = r.origin.head<3>().cast<double>() - shift;

@@ -5,6 +5,7 @@
 #include "header_text.h"
 #include "las/las_reader.h"
 #include "ply/ply_header.h"
+#include "sensor_view.h"
 
 #include <algorithm>
 #include <array>
@@ -262,13 +263,9 @@ void CloudStream::parsePcd() {
       if (!has_points)
         points_ = width * height;
       data_offset_ = static_cast<std::uint64_t>(in_.tellg());
-      // A sensor's view as readCloud tells it (cloud_io.cpp, sensorPose): organized, or posed.
-      const bool posed = viewpoint[0] != 0.0 || viewpoint[1] != 0.0 || viewpoint[2] != 0.0 ||
-                         viewpoint[3] != 1.0 || viewpoint[4] != 0.0 || viewpoint[5] != 0.0 ||
-                         viewpoint[6] != 0.0;
-      const double q = std::sqrt(viewpoint[3] * viewpoint[3] + viewpoint[4] * viewpoint[4] +
-                                 viewpoint[5] * viewpoint[5] + viewpoint[6] * viewpoint[6]);
-      if ((height > 1 || posed) && q > 0.0)
+      if (isSensorView(Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]),
+                       Eigen::Quaterniond(viewpoint[3], viewpoint[4], viewpoint[5], viewpoint[6]),
+                       height))
         sensor_ = viewpoint;
       return;
     } else if (w[0] != "WIDTH" && w[0] != "HEIGHT") {
