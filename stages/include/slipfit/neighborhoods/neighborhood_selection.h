@@ -12,6 +12,7 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace slipfit {
@@ -164,6 +165,15 @@ class NeighborhoodSelection : public pcl::PCLBase<PointT> {
              std::size_t& widened) const;
   /// The sizes of \a output into statistics_.
   void summarise(const Neighborhoods& output, std::size_t queries);
+  /// Throws DegenerateInputError with \a failure, a search's error, unless it is empty.
+  void throwSearchFailure(const std::string& failure);
+  /// The lists of the \a queried points, searched a chunk of points at a time in cloud order and
+  /// appended in that order (every mode).
+  void searchInCloudOrder(const std::vector<char>& queried, const QuantizedAxis& lattice,
+                          std::size_t radius_cap, Neighborhoods& output);
+  /// knn lists of one known size, searched along spatialOrder() and written in place: on a cloud
+  /// in no spatial order the kd-tree walks warm memory (THEORY §1).
+  void searchInSpatialOrder(const std::vector<char>& queried, Neighborhoods& output);
 
   NeighborhoodParameters parameters_;
   SearchPtr search_;

@@ -49,6 +49,13 @@ class Neighborhoods {
   /// Appends the list of the next point; lists must be appended in cloud order 0, 1, 2, ...
   /// \a count entries are taken from \a indices and \a sqr_distances.
   void append(const pcl::index_t* indices, const float* sqr_distances, std::size_t count);
+  /// Lays out one list of \a sizes[i] entries for each point i, for lists found in any order
+  /// (fill()); replaces what was there.
+  void allocate(const std::vector<std::uint32_t>& sizes);
+  /// Point i's list of an allocate()d layout: \a count must be the size allocated for it.
+  /// Distinct points may be filled from several threads at once.
+  void fill(std::size_t i, const pcl::index_t* indices, const float* sqr_distances,
+            std::size_t count);
   /// Pre-allocates for \a points lists with \a entries entries in all.
   void reserve(std::size_t points, std::size_t entries);
   /// Restarts as an empty structure (no points).

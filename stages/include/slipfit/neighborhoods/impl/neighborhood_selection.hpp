@@ -6,6 +6,7 @@
 #include "slipfit/neighborhoods/eigen_entropy.h"
 #include "slipfit/neighborhoods/grid_search.h"
 #include "slipfit/neighborhoods/neighborhood_selection.h"
+#include "slipfit/neighborhoods/spatial_order.h"
 
 #include <pcl/common/point_tests.h>
 #include <pcl/search/kdtree.h>
@@ -15,6 +16,7 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <exception>
 #include <limits>
 #include <string>
 #include <vector>
@@ -50,6 +52,13 @@ inline std::string radiusTooLarge(double radius, std::size_t cap, std::size_t po
 }  // namespace detail
 
 namespace detail {
+/// No exception may leave an OpenMP region (std::terminate): the first is kept, and thrown after
+/// the region.
+inline void keepFirstFailure(std::string& failure, const std::exception& e) {
+#pragma omp critical(slipfit_neighborhood_failure)
+  if (failure.empty())
+    failure = e.what();
+}
 // knn on a quantized axis: a list whose k nearest lie within this many local steps is widened to
 // every point within them, at most kWidenCap k points chosen from at most kSearchCap k.
 constexpr double kSpanSteps = 1.5;
@@ -225,8 +234,6 @@ void NeighborhoodSelection<PointT>::summarise(const Neighborhoods& output, std::
 template <typename PointT>
 void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
   const std::vector<char> queried = checkInput();
-  const auto& cloud = *input_;
-  const std::size_t n = cloud.size();
   const NeighborhoodParameters& par = parameters_;
   statistics_ = NeighborhoodStatistics{};
   prepareSearch();
@@ -237,6 +244,33 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
     statistics_.max_step = lattice.maxStep();
   }
   const std::size_t radius_cap = par.mode == NeighborhoodMode::radius ? radiusCap() : 0;
+  // Lists of one size (knn, none widened) from the kd-tree are searched in spatial order; a
+  // pixel grid's own order is spatial already.
+  if (par.mode == NeighborhoodMode::knn && !lattice.detected() &&
+      dynamic_cast<const NanoflannSearch<PointT>*>(search_.get()) != nullptr)
+    searchInSpatialOrder(queried, output);
+  else
+    searchInCloudOrder(queried, lattice, radius_cap, output);
+  summarise(output, statistics_.queries);
+  this->deinitCompute();
+}
+
+template <typename PointT>
+void NeighborhoodSelection<PointT>::throwSearchFailure(const std::string& failure) {
+  if (failure.empty())
+    return;
+  this->deinitCompute();
+  throw DegenerateInputError("neighborhood selection: the search failed (" + failure + ")");
+}
+
+template <typename PointT>
+void NeighborhoodSelection<PointT>::searchInCloudOrder(const std::vector<char>& queried,
+                                                       const QuantizedAxis& lattice,
+                                                       std::size_t radius_cap,
+                                                       Neighborhoods& output) {
+  const auto& cloud = *input_;
+  const std::size_t n = cloud.size();
+  const NeighborhoodParameters& par = parameters_;
   const int k_query = par.mode == NeighborhoodMode::adaptive ? par.k_max : par.k;
   output.clear();
   output.reserve(
@@ -274,17 +308,10 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
           ++queries;
           query(i, lattice, radius_cap, local, ind, d, over_budget, widened);
         } catch (const std::exception& e) {
-          // No exception may leave an OpenMP region (std::terminate): the first is kept and thrown
-          // after it.
-#pragma omp critical(slipfit_neighborhood_failure)
-          if (failure.empty())
-            failure = e.what();
+          detail::keepFirstFailure(failure, e);
         }
     }
-    if (!failure.empty()) {
-      this->deinitCompute();
-      throw DegenerateInputError("neighborhood selection: the search failed (" + failure + ")");
-    }
+    throwSearchFailure(failure);
     if (over_budget) {
       this->deinitCompute();
       throw InvalidParameterError(
@@ -297,8 +324,56 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
   statistics_.queries = queries;
   statistics_.skipped_nonfinite = skipped;
   statistics_.widened = widened;
-  summarise(output, queries);
-  this->deinitCompute();
+}
+
+template <typename PointT>
+void NeighborhoodSelection<PointT>::searchInSpatialOrder(const std::vector<char>& queried,
+                                                         Neighborhoods& output) {
+  const auto& cloud = *input_;
+  const std::size_t n = cloud.size();
+  std::size_t finite = 0;
+  for (const auto& p : cloud.points)
+    finite += pcl::isFinite(p) ? 1 : 0;
+  // Every finite queried point gets the k nearest of the finite points (all, when fewer).
+  const auto k = static_cast<std::uint32_t>(
+      std::min<std::size_t>(static_cast<std::size_t>(parameters_.k), finite));
+  pcl::Indices points;
+  {
+    std::vector<std::uint32_t> sizes(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      if (queried[i]) {
+        points.push_back(static_cast<pcl::index_t>(i));
+        sizes[i] = pcl::isFinite(cloud[i]) ? k : 0;
+      }
+    output.allocate(sizes);
+  }
+  const pcl::Indices order = spatialOrder(cloud, points);
+  points = pcl::Indices();
+  std::size_t queries = 0, skipped = 0;
+  std::string failure;
+  const auto m = static_cast<std::ptrdiff_t>(order.size());
+#pragma omp parallel num_threads(resolveThreads(parameters_.threads)) reduction(+ : queries, skipped)
+  {
+    pcl::Indices ind;
+    std::vector<float> d;
+#pragma omp for schedule(dynamic, 256)
+    for (std::ptrdiff_t o = 0; o < m; ++o)
+      try {
+        const auto i = static_cast<std::size_t>(order[static_cast<std::size_t>(o)]);
+        if (!pcl::isFinite(cloud[i])) {
+          ++skipped;
+          continue;
+        }
+        ++queries;
+        search_->nearestKSearch(cloud, static_cast<pcl::index_t>(i), static_cast<int>(k), ind, d);
+        output.fill(i, ind.data(), d.data(), ind.size());
+      } catch (const std::exception& e) {
+        detail::keepFirstFailure(failure, e);
+      }
+  }
+  throwSearchFailure(failure);
+  statistics_.queries = queries;
+  statistics_.skipped_nonfinite = skipped;
 }
 
 }  // namespace slipfit
