@@ -52,13 +52,14 @@ TEST(SpatialOrder, IsAPermutationWithNearPointsNextToEachOtherAndNonFiniteLast) 
   EXPECT_EQ(order.back(), 11);
   EXPECT_EQ(spatialOrder(*cloud, all), order);  // the same input, the same order
 
-  // Uniform points in a unit cube: consecutive ones in file order are 0.66 apart on average; along
-  // a Morton curve of N points a step is about the spacing N^(-1/3) = 0.037 times a small factor
-  // (the curve's jumps between octants).
+  // Uniform points in a unit cube: consecutive ones in file order are 0.66 apart on average (the
+  // mean distance of two random points); along a Morton curve a step is the spacing N^(-1/3) =
+  // 0.037 times a small factor for the curve's jumps between octants (measured 1.30: 0.048).
+  // Sorting by one coordinate only would give steps of about 0.3.
   const pcl::Indices finite(order.begin(), order.end() - 2);
   const pcl::Indices file_order(all.begin() + 12, all.end());
   EXPECT_GT(meanStep(*cloud, file_order), 0.5);
-  EXPECT_LT(meanStep(*cloud, finite), 3.0 * std::cbrt(1.0 / 20000.0));
+  EXPECT_LT(meanStep(*cloud, finite), 2.0 * std::cbrt(1.0 / 20000.0));
 }
 
 TEST(SpatialOrder, KeepsTheGivenIndicesOnly) {
