@@ -162,13 +162,17 @@ int main(int argc, char** argv) try {
   for (std::size_t j = 0; j < report.size(); ++j)
     records[report[j]["label"].as<int>()] = report[j];
   double angle_sum = 0, angle_max = 0, radius_sum = 0, radius_max = 0;
-  int angles = 0, radii = 0;
+  int angles = 0, radii = 0, matched = 0, fitted = 0;
   for (std::size_t t = 0; t < score.truths && t < scene.size(); ++t) {
     const int k = score.match[t];
     if (k < 0 || predicted_types[static_cast<std::size_t>(k)] != truth_types[t] ||
         !records.count(k))
       continue;
+    ++matched;
     const YAML::Node& r = records[k];
+    if (r["status"] && r["status"].as<std::string>() != "ok")
+      continue;  // a failed fit has no parameters to compare (it is counted in unfitted=)
+    ++fitted;
     double angle = -1, radius = -1;
     if (const auto* pl = std::get_if<slipfit::Plane>(&scene[t].primitive)) {
       angle = angleDeg(vec(r["normal"]), pl->normal);
@@ -202,7 +206,7 @@ int main(int argc, char** argv) try {
             << " axis_err_deg_mean=" << (angles ? angle_sum / angles : 0.0)
             << " axis_err_deg_max=" << angle_max
             << " size_err_pct_mean=" << (radii ? 100 * radius_sum / radii : 0.0)
-            << " size_err_pct_max=" << 100 * radius_max << "\n";
+            << " size_err_pct_max=" << 100 * radius_max << " unfitted=" << matched - fitted << "\n";
   return 0;
 } catch (const std::exception& e) {
   std::cerr << "score_segmentation: " << e.what() << "\n";

@@ -42,8 +42,9 @@ void OutputSection::declare(OptionSet& o) {
 void TilingSection::declare(OptionSet& o) {
   o.add("size", size,
         "Edge of a tile's core in the cloud's units: the cloud is streamed into square tiles of "
-        "the x-y plane, each run through the stages on its own and the segments joined across "
-        "tiles (docs/TILING.md); 0: one untiled run.")
+        "the x-y plane (split further where a core holds over max_points), each run through the "
+        "stages on its own and the segments joined across tiles (docs/TILING.md); 0: one "
+        "untiled run.")
       .unit("units")
       .atLeast(0.0);
   o.add("buffer", buffer,
@@ -52,6 +53,11 @@ void TilingSection::declare(OptionSet& o) {
         "(0: a tenth of size).")
       .unit("units")
       .atLeast(0.0);
+  o.add("max_points", max_points,
+        "The most points a tile's core may hold: a denser tile is split into quarters, and "
+        "those again, while they stay wider than twice the buffer, so that memory follows this "
+        "count whatever the density (a tile run takes about 300 bytes a point; 0: no limit).")
+      .unit("points");
   o.add("workdir", workdir,
         "Directory of the tiles and the per-tile results (kept for a rerun to resume; empty: "
         "<output.dir>/tiles).")

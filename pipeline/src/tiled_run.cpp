@@ -144,7 +144,7 @@ struct TileSampling {
 /// The sampling stages of \a config (SampledAnalysis), each with what the tiles are given. With
 /// \a count false, only what needs no count of the tiles' voxels (the random mode's shares).
 std::vector<TileSampling> tileSamplings(const PipelineConfig& config,
-                                        const TilingManifest& manifest, const TileGrid& grid,
+                                        const TilingManifest& manifest, const TileTree& tree,
                                         const std::string& tiles_dir, bool count) {
   std::vector<TileSampling> samplings;
   for (std::size_t k = 0; k < config.stages.size(); ++k) {
@@ -188,7 +188,7 @@ std::vector<TileSampling> tileSamplings(const PipelineConfig& config,
         Eigen::Matrix3Xd xyz;
         in.read(0, in.size(), xyz);
         n += occupiedVoxels(xyz, l, origin, [&](const Eigen::Vector3d& corner) {
-          return grid.owner(corner.x(), corner.y()) == tile.key;
+          return tree.owner(corner.x(), corner.y()) == tile.key;
         });
       }
       return n;
@@ -264,8 +264,39 @@ std::string workDirectoryPath(const PipelineConfig& config) {
 std::string configDigest(const PipelineConfig& config) {
   std::ostringstream text;
   text << std::setprecision(17) << effectiveConfig(config) << config.input.path << "\n"
-       << config.tiling.size << " " << config.tiling.bufferWidth() << "\n";
+       << config.tiling.size << " " << config.tiling.bufferWidth() << " "
+       << config.tiling.max_points << "\n";
   return detail::hex(detail::digest(text.str()));
+}
+
+/// The report's line on the tiles' capacity: the limit, and the tiles split to hold it (and any
+/// that still exceed it, at the smallest edge the buffer allows).
+std::string splitsText(const TilingManifest& m) {
+  std::ostringstream text;
+  text << "tiling: at most ";
+  if (m.max_points == 0) {
+    text << "any number of points a tile (tiling.max_points 0)\n";
+    return text.str();
+  }
+  text << m.max_points << " points in a tile's core (tiling.max_points)";
+  int deepest = 0;
+  std::size_t quarters = 0, over = 0;
+  std::uint64_t most = 0;
+  for (const TileInfo& t : m.tiles) {
+    deepest = std::max(deepest, t.key.level);
+    quarters += t.key.level > 0 ? 1 : 0;
+    over += t.core > m.max_points ? 1 : 0;
+    most = std::max(most, t.core);
+  }
+  if (quarters > 0)
+    text << ": " << quarters << " tiles are quarters of denser ones, down to an edge of "
+         << std::ldexp(m.size, -deepest);
+  text << "; the fullest holds " << most;
+  if (over > 0)
+    text << " (" << over << " over the limit: their quarters would be narrower than twice the "
+         << "buffer " << m.buffer << ")";
+  text << "\n";
+  return text.str();
 }
 
 }  // namespace
@@ -310,7 +341,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       inputStamp(config.input.path, bytes, mtime);
       if (readManifest(manifest_path, old) && old.input == config.input.path &&
           old.input_bytes == bytes && old.input_mtime == mtime && old.size == grid.size() &&
-          old.buffer == grid.buffer()) {
+          old.buffer == grid.buffer() && old.max_points == config.tiling.max_points) {
         const std::string why = verifyTiles(old, tiles_dir);
         if (why.empty()) {
           manifest = old;
@@ -323,8 +354,8 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       if (manifest.tiles.empty()) {
         claimed->removeTiling();
         progress.begin(1, 3, "tile " + config.input.path);
-        manifest = writeTiles(config.input.path, config.input.nan, grid, tiles_dir,
-                              [](std::uint64_t, std::uint64_t) {});
+        manifest = writeTiles(config.input.path, config.input.nan, grid, config.tiling.max_points,
+                              tiles_dir, [](std::uint64_t, std::uint64_t) {});
         progress.end();
         writeAtomically(manifest_path, manifestText(manifest));
         report << "tiling: " << manifest.points << " points";
@@ -334,6 +365,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
                << grid.buffer() << ") in " << tiles_dir << ", " << std::fixed
                << std::setprecision(2) << seconds(start) << " s\n"
                << std::defaultfloat;
+        report << splitsText(manifest);
       }
     } catch (const std::exception& e) {
       failure = e.what();
@@ -371,7 +403,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       if (text.rfind(key, 0) == 0) {
         try {
           text = text.substr(key.size());
-          samplings = tileSamplings(config, manifest, grid, tiles_dir, false);
+          samplings = tileSamplings(config, manifest, manifest.tree(), tiles_dir, false);
           readSamplings(text, samplings);
           cached = true;
         } catch (const YAML::Exception&) {
@@ -379,7 +411,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
         }
       }
       if (!cached) {
-        samplings = tileSamplings(config, manifest, grid, tiles_dir, true);
+        samplings = tileSamplings(config, manifest, manifest.tree(), tiles_dir, true);
         text = samplingsText(samplings);
         writeAtomically(cache, key + text);
       }
@@ -401,7 +433,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   }
   work.shareFailure(failure);
   if (!work.leader()) {  // the leader's choice, read back (no second count)
-    samplings = tileSamplings(config, manifest, grid, tiles_dir, false);
+    samplings = tileSamplings(config, manifest, manifest.tree(), tiles_dir, false);
     readSamplings(readText(runs_dir + "/analysis"), samplings);
   }
 

@@ -155,11 +155,15 @@ TEST(WorkDirectory, AClaimThatEndsWithoutTilesLeavesNothing) {
   EXPECT_TRUE(fs::is_regular_file(dir + "/.slipfit-workdir"));
 }
 
-TEST(WorkDirectory, TileNamesAreTwoIntegers) {
+// tile_<i>_<j>, or tile_<i>_<j>_<level> for a quarter of a split tile (tiling.max_points).
+TEST(WorkDirectory, TileNamesAreTwoIntegersAndALevel) {
   EXPECT_TRUE(isTileName("tile_0_0.ply", ".ply"));
   EXPECT_TRUE(isTileName("tile_-12_7", ""));
-  for (const char* name : {"tile_0.ply", "tile_0_0_0.ply", "tile__0.ply", "tile_a_0.ply",
-                           "tile_0_0.ply.bak", "tiles_0_0.ply", "tile_0_-.ply", "tile_0_0"})
+  EXPECT_TRUE(isTileName("tile_-12_7_3", ""));
+  EXPECT_TRUE(isTileName("tile_5_-3_2.ply", ".ply"));
+  for (const char* name :
+       {"tile_0.ply", "tile_0_0_-1.ply", "tile_0_0_1_1.ply", "tile__0.ply", "tile_a_0.ply",
+        "tile_0_0.ply.bak", "tiles_0_0.ply", "tile_0_-.ply", "tile_0_0"})
     EXPECT_FALSE(isTileName(name, ".ply")) << name;
 }
 

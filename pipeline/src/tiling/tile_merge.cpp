@@ -254,9 +254,28 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
                         OutputFiles& outputs) {
   const std::size_t tiles = m.tiles.size();
   const auto dirOf = [&](std::size_t t) { return runs_dir + "/" + m.tiles[t].name(); };
-  std::map<TileKey, std::size_t> index;
+  // The tiles by the grid tile they lie in: a tile's buffer reaches only into the grid tiles
+  // around its own (buffer < size / 2).
+  const TileTree tree = m.tree();
+  std::map<TileKey, std::vector<std::size_t>> by_grid_tile;
   for (std::size_t t = 0; t < tiles; ++t)
-    index[m.tiles[t].key] = t;
+    by_grid_tile[TileTree::ancestor(m.tiles[t].key, 0)].push_back(t);
+  // The tiles after t (in the manifest's order) that may share points with it.
+  const auto neighboursAfter = [&](std::size_t t) {
+    std::vector<std::size_t> after;
+    const TileKey own = TileTree::ancestor(m.tiles[t].key, 0);
+    for (std::int64_t di = -1; di <= 1; ++di)
+      for (std::int64_t dj = -1; dj <= 1; ++dj) {
+        const auto near = by_grid_tile.find({own.i + di, own.j + dj});
+        if (near == by_grid_tile.end())
+          continue;
+        for (const std::size_t u : near->second)
+          if (u > t && tree.overlap(m.tiles[t].key, m.tiles[u].key))
+            after.push_back(u);
+      }
+    std::sort(after.begin(), after.end());
+    return after;
+  };
 
   // The pieces: every tile's segments, numbered tile after tile.
   std::vector<std::vector<TileSegment>> pieces(tiles);
@@ -281,11 +300,7 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
   forEachOnWorkers(tiles, workers, [&](std::size_t t) {
     const TileLabels here = readTileLabels(dirOf(t));
     owned[t] = here.owned;
-    for (const auto& [di, dj] : {std::pair{0, 1}, {1, -1}, {1, 0}, {1, 1}}) {
-      const auto other = index.find({m.tiles[t].key.i + di, m.tiles[t].key.j + dj});
-      if (other == index.end())
-        continue;
-      const std::size_t u = other->second;
+    for (const std::size_t u : neighboursAfter(t)) {
       const TileLabels there = readTileLabels(dirOf(u));
       OverlapCounts counts;
       try {

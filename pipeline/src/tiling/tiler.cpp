@@ -4,6 +4,7 @@
 
 #include "slipfit/pipeline/cloud_stream.h"
 #include "slipfit/pipeline/errors.h"
+#include "slipfit/tiling/tile_tree.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -25,6 +26,8 @@ namespace {
 
 constexpr std::uint64_t kRowsPerChunk = 1u << 16;
 constexpr std::size_t kBufferedBytes = std::size_t{32} << 20;  // all tiles' write buffers
+/// The levels of quarters a pass counts below an over-full tile (4^3 = 64 cells each).
+constexpr int kSplitLevels = 3;
 
 /// The input's coordinates of each row of a chunk.
 struct Coordinates {
@@ -103,7 +106,7 @@ void inputStamp(const std::string& path, std::uint64_t& bytes, std::int64_t& mti
 }
 
 TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGrid& grid,
-                          const std::string& dir,
+                          std::uint64_t max_points, const std::string& dir,
                           const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
   CloudStream in(input);
   for (const StreamField& f : in.fields())
@@ -115,6 +118,7 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
   inputStamp(input, m.input_bytes, m.input_mtime);
   m.size = grid.size();
   m.buffer = grid.buffer();
+  m.max_points = max_points;
   m.double_coordinates = in.doubleCoordinates();
   m.sensor = in.sensor();
   for (int a = 0; a < 3; ++a) {
@@ -122,10 +126,7 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
     m.hi[a] = -std::numeric_limits<double>::infinity();
   }
 
-  // Pass 1: each tile's points and core points (no more than kMostTiles are counted: past them,
-  // only the extent, for the message).
-  std::map<TileKey, TileInfo> tiles;
-  bool too_many = false;
+  TileTree tree(grid);
   const auto outside = [&](double x, double y) {
     std::ostringstream why;
     why << std::setprecision(17) << "input '" << input << "': coordinate (" << x << ", " << y
@@ -135,42 +136,116 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
   };
   const auto place = [&](double x, double y, const auto& visit) {
     try {
-      grid.forEachCovering(x, y, visit);
+      tree.forEachCovering(x, y, visit);
     } catch (const std::invalid_argument&) {
       throw outside(x, y);
     }
   };
   const auto ownerOf = [&](double x, double y) {
     try {
-      return grid.owner(x, y);
+      return tree.owner(x, y);
     } catch (const std::invalid_argument&) {
       throw outside(x, y);
     }
   };
-  m.dropped = forEachRow(
-      in, input, nan,
-      [&](std::uint64_t, const char*, double x, double y, double z) {
+  // The passes read the input once each: the progress total grows with the passes.
+  std::uint64_t passes_done = 0, passes_planned = 2;
+  const auto pass = [&](const auto& visit) {
+    const std::uint64_t dropped = forEachRow(in, input, nan, visit, progress,
+                                             passes_done * in.size(), passes_planned * in.size());
+    ++passes_done;
+    return dropped;
+  };
+
+  // Pass 1: each tile's points and core points (no more than kMostTiles are counted: past them,
+  // only the extent, for the message); counted again on the leaves when tiles are split.
+  std::map<TileKey, TileInfo> tiles;
+  bool too_many = false;
+  const auto countTiles = [&](bool extent) {
+    tiles.clear();
+    too_many = false;
+    return pass([&](std::uint64_t, const char*, double x, double y, double z) {
+      if (extent) {
         const double p[3] = {x, y, z};
         for (int a = 0; a < 3; ++a) {
           m.lo[a] = std::min(m.lo[a], p[a]);
           m.hi[a] = std::max(m.hi[a], p[a]);
         }
         ++m.points;
-        if (too_many)
-          return;
-        const TileKey own = ownerOf(x, y);
-        place(x, y, [&](TileKey t) {
-          TileInfo& info = tiles[t];
-          info.key = t;
-          ++info.points;
-          if (t == own)
-            ++info.core;
-        });
-        too_many = tiles.size() > 4 * kMostTiles;  // buffer-only tiles are not written
-      },
-      progress, 0, 2 * in.size());
+      }
+      if (too_many)
+        return;
+      const TileKey own = ownerOf(x, y);
+      place(x, y, [&](TileKey t) {
+        TileInfo& info = tiles[t];
+        info.key = t;
+        ++info.points;
+        if (t == own)
+          ++info.core;
+      });
+      too_many = tiles.size() > 4 * kMostTiles;  // buffer-only tiles are not written
+    });
+  };
+  m.dropped = countTiles(true);
   if (m.points == 0)
     throw RunError("input '" + input + "': no point with finite coordinates");
+
+  // Tiles whose cores hold more than max_points are split into quarters, and those again, as long
+  // as their quarters stay wider than twice the buffer: each further pass counts the cores of an
+  // over-full tile's descendants kSplitLevels levels down and splits as deep as they need.
+  if (max_points > 0 && !too_many) {
+    std::map<TileKey, std::uint64_t> over;  // leaves to split, with their core points
+    for (const auto& [key, info] : tiles)
+      if (info.core > max_points && tree.splittable(key))
+        over[key] = info.core;
+    bool split = false;
+    while (!over.empty()) {
+      // The deepest level each over-full leaf's descendants are counted at.
+      const auto deepest = [&](const TileKey& t) {
+        TileKey d = t;
+        while (d.level < t.level + kSplitLevels && tree.splittable(d))
+          d = TileTree::quarters(d)[0];
+        return d.level;
+      };
+      std::map<TileKey, std::uint64_t> cores;  // every descendant's core points
+      ++passes_planned;
+      pass([&](std::uint64_t, const char*, double x, double y, double) {
+        TileKey t = ownerOf(x, y);
+        if (over.count(t) == 0)
+          return;
+        for (const int to = deepest(t); t.level < to;) {
+          t = tree.quarterOf(t, x, y);
+          ++cores[t];
+        }
+      });
+      std::map<TileKey, std::uint64_t> next;
+      for (const auto& [leaf, points] : over) {
+        const int to = deepest(leaf);
+        std::vector<std::pair<TileKey, std::uint64_t>> todo{{leaf, points}};
+        while (!todo.empty()) {
+          const auto [t, n] = todo.back();
+          todo.pop_back();
+          if (n <= max_points || !tree.splittable(t))
+            continue;
+          if (t.level == to) {
+            next[t] = n;  // counted again one pass further down
+            continue;
+          }
+          tree.split(t);
+          split = true;
+          for (const TileKey& q : TileTree::quarters(t)) {
+            const auto c = cores.find(q);
+            todo.emplace_back(q, c == cores.end() ? 0 : c->second);
+          }
+        }
+      }
+      over = std::move(next);
+    }
+    if (split) {
+      ++passes_planned;
+      countTiles(false);
+    }
+  }
   const std::size_t written = static_cast<std::size_t>(
       std::count_if(tiles.begin(), tiles.end(), [](const auto& t) { return t.second.core > 0; }));
   if (too_many || written > kMostTiles ||
@@ -241,7 +316,7 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
           buffered = 0;
         }
       },
-      progress, in.size(), 2 * in.size());
+      progress, passes_done * in.size(), passes_planned * in.size());
   for (auto& [key, w] : writers)
     w.flush();
   // Every tile holds exactly the rows its header announces.
@@ -255,6 +330,13 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
   for (TileInfo& t : m.tiles)
     t.bytes = std::filesystem::file_size(dir + "/" + t.name() + ".ply");
   return m;
+}
+
+TileTree TilingManifest::tree() const {
+  std::vector<TileKey> leaves;
+  for (const TileInfo& t : tiles)
+    leaves.push_back(t.key);
+  return TileTree::fromLeaves(TileGrid(size, buffer), leaves);
 }
 
 std::string verifyTiles(const TilingManifest& m, const std::string& dir) {
@@ -274,12 +356,13 @@ std::string manifestText(const TilingManifest& m) {
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap;
-  out << YAML::Key << "slipfit_tiling" << YAML::Value << 4;
+  out << YAML::Key << "slipfit_tiling" << YAML::Value << 5;
   out << YAML::Key << "input" << YAML::Value << m.input;
   out << YAML::Key << "input_bytes" << YAML::Value << m.input_bytes;
   out << YAML::Key << "input_mtime" << YAML::Value << m.input_mtime;
   out << YAML::Key << "size" << YAML::Value << m.size;
   out << YAML::Key << "buffer" << YAML::Value << m.buffer;
+  out << YAML::Key << "max_points" << YAML::Value << m.max_points;
   out << YAML::Key << "points" << YAML::Value << m.points;
   out << YAML::Key << "dropped" << YAML::Value << m.dropped;
   out << YAML::Key << "double_coordinates" << YAML::Value << m.double_coordinates;
@@ -295,8 +378,8 @@ std::string manifestText(const TilingManifest& m) {
   }
   out << YAML::Key << "tiles" << YAML::Value << YAML::BeginSeq;
   for (const TileInfo& t : m.tiles)
-    out << YAML::Flow << YAML::BeginSeq << t.key.i << t.key.j << t.points << t.core << t.bytes
-        << YAML::EndSeq;
+    out << YAML::Flow << YAML::BeginSeq << t.key.i << t.key.j << t.key.level << t.points << t.core
+        << t.bytes << YAML::EndSeq;
   out << YAML::EndSeq << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
@@ -306,13 +389,14 @@ bool readManifest(const std::string& path, TilingManifest& m) {
     return false;
   try {
     const YAML::Node n = YAML::LoadFile(path);
-    if (!n.IsMap() || !n["slipfit_tiling"] || n["slipfit_tiling"].as<int>() != 4)
+    if (!n.IsMap() || !n["slipfit_tiling"] || n["slipfit_tiling"].as<int>() != 5)
       return false;
     m.input = n["input"].as<std::string>();
     m.input_bytes = n["input_bytes"].as<std::uint64_t>();
     m.input_mtime = n["input_mtime"].as<std::int64_t>();
     m.size = n["size"].as<double>();
     m.buffer = n["buffer"].as<double>();
+    m.max_points = n["max_points"].as<std::uint64_t>();
     m.points = n["points"].as<std::uint64_t>();
     m.dropped = n["dropped"].as<std::uint64_t>();
     m.double_coordinates = n["double_coordinates"].as<bool>();
@@ -330,14 +414,17 @@ bool readManifest(const std::string& path, TilingManifest& m) {
     m.tiles.clear();
     for (const auto& t : n["tiles"]) {
       TileInfo info;
-      info.key = {t[0].as<std::int64_t>(), t[1].as<std::int64_t>()};
-      info.points = t[2].as<std::uint64_t>();
-      info.core = t[3].as<std::uint64_t>();
-      info.bytes = t[4].as<std::uint64_t>();
+      info.key = {t[0].as<std::int64_t>(), t[1].as<std::int64_t>(), t[2].as<int>()};
+      info.points = t[3].as<std::uint64_t>();
+      info.core = t[4].as<std::uint64_t>();
+      info.bytes = t[5].as<std::uint64_t>();
       m.tiles.push_back(info);
     }
+    m.tree();  // the tiles come from splits of the grid
     return true;
   } catch (const YAML::Exception&) {
+    return false;
+  } catch (const std::invalid_argument&) {
     return false;
   }
 }

@@ -9,6 +9,7 @@
 
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/tiling/tile_grid.h"
+#include "slipfit/tiling/tile_tree.h"
 
 #include <array>
 #include <cstdint>
@@ -24,8 +25,12 @@ struct TileInfo {
   std::uint64_t points = 0;  ///< core and buffer
   std::uint64_t core = 0;    ///< points this tile owns
   std::uint64_t bytes = 0;   ///< the tile file's size as written
-  /// "tile_<i>_<j>": the tile's file (.ply) and run directory.
-  std::string name() const { return "tile_" + std::to_string(key.i) + "_" + std::to_string(key.j); }
+  /// "tile_<i>_<j>", and "tile_<i>_<j>_<level>" for a quarter of a split tile: the tile's file
+  /// (.ply) and run directory.
+  std::string name() const {
+    return "tile_" + std::to_string(key.i) + "_" + std::to_string(key.j) +
+           (key.level > 0 ? "_" + std::to_string(key.level) : "");
+  }
 };
 
 /// What the tiling made, written last (manifest.yaml): a rerun with the same input and tiling
@@ -35,8 +40,9 @@ struct TilingManifest {
   std::uint64_t input_bytes = 0;
   std::int64_t input_mtime = 0;  ///< nanoseconds
   double size = 0.0, buffer = 0.0;
-  std::uint64_t points = 0;   ///< kept: each owned by exactly one tile
-  std::uint64_t dropped = 0;  ///< non-finite coordinates (input.nan: skip)
+  std::uint64_t max_points = 0;  ///< the most core points of a tile that may be split; 0: none
+  std::uint64_t points = 0;      ///< kept: each owned by exactly one tile
+  std::uint64_t dropped = 0;     ///< non-finite coordinates (input.nan: skip)
   /// The x, y bounds of the kept points (for the merged report's global shift).
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   bool double_coordinates = false;
@@ -44,19 +50,25 @@ struct TilingManifest {
   /// y, z) when it is a sensor's view: each tile is run as that sensor's view too.
   std::optional<std::array<double, 7>> sensor;
   std::vector<TileInfo> tiles;  ///< ascending by key; only tiles that own points
+
+  /// The tiles' layout: the grid, and the splits that made these tiles.
+  TileTree tree() const;
 };
 
 /// The input file's size and modification time, as the manifest records them.
 void inputStamp(const std::string& path, std::uint64_t& bytes, std::int64_t& mtime);
 
 /// Writes the tiles of \a input into \a dir (created) and returns the manifest (not yet saved).
-/// \a progress(done, total) is called as rows are read. Throws RunError naming the file and row
+/// A tile of \a grid whose core holds more than \a max_points points (0: no limit) is split into
+/// quarters, and those again, while they stay wider than twice the buffer (tile_tree.h); each
+/// split costs one more read of the input. \a progress(done, total) is called as rows are read
+/// (the total grows by a read when tiles are split). Throws RunError naming the file and row
 /// for unreadable input, a non-finite coordinate under NanPolicy::error, a coordinate outside the
 /// grid, more than kMostTiles tiles or fewer than kFewestMeanTilePoints points a tile (before any
 /// tile is written), and naming the tile for a failed
 /// write.
 TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGrid& grid,
-                          const std::string& dir,
+                          std::uint64_t max_points, const std::string& dir,
                           const std::function<void(std::uint64_t, std::uint64_t)>& progress);
 
 /// The most tiles a tiling may make, and the fewest points a tile may own on average: past

@@ -75,6 +75,7 @@ bool isTileName(const std::string& name, const std::string& suffix) {
       name.rfind("tile_", 0) != 0)
     return false;
   const std::string keys = name.substr(5, name.size() - 5 - suffix.size());
+  // tile_<i>_<j>, or tile_<i>_<j>_<level> for a quarter of a split tile (level ≥ 1)
   int numbers = 0;
   std::size_t at = 0;
   while (at <= keys.size()) {
@@ -82,14 +83,14 @@ bool isTileName(const std::string& name, const std::string& suffix) {
     if (end == std::string::npos)
       end = keys.size();
     std::string number = keys.substr(at, end - at);
-    if (!number.empty() && number[0] == '-')
+    if (!number.empty() && number[0] == '-' && numbers < 2)
       number.erase(0, 1);
     if (number.empty() || number.find_first_not_of("0123456789") != std::string::npos)
       return false;
     ++numbers;
     at = end + 1;
   }
-  return numbers == 2;
+  return numbers == 2 || numbers == 3;
 }
 
 void checkWorkDirectory(const std::string& dir, const std::string& input) {

@@ -52,7 +52,8 @@ class WorkDirectory {
 /// The token the leader wrote in \a dir ("" when there is none).
 std::string readRunToken(const std::string& dir);
 
-/// Whether \a name is a tile's file or run directory name ("tile_<i>_<j>", with \a suffix).
+/// Whether \a name is a tile's file or run directory name ("tile_<i>_<j>" or
+/// "tile_<i>_<j>_<level>", with \a suffix).
 bool isTileName(const std::string& name, const std::string& suffix);
 
 }  // namespace slipfit::pipeline::tiling

@@ -13,10 +13,15 @@
 
 namespace slipfit {
 
+/// Tile (i, j) of the grid, or with level > 0 a quarter-by-quarter split of one (tile_tree.h):
+/// cell (i, j) of the grid whose edge is size / 2^level.
 struct TileKey {
   std::int64_t i = 0, j = 0;
-  bool operator<(const TileKey& o) const { return std::tie(i, j) < std::tie(o.i, o.j); }
-  bool operator==(const TileKey& o) const { return i == o.i && j == o.j; }
+  int level = 0;
+  bool operator<(const TileKey& o) const {
+    return std::tie(level, i, j) < std::tie(o.level, o.i, o.j);
+  }
+  bool operator==(const TileKey& o) const { return i == o.i && j == o.j && level == o.level; }
   bool operator!=(const TileKey& o) const { return !(*this == o); }
 };
 
