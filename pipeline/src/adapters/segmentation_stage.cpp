@@ -13,6 +13,7 @@
 #include "slipfit/render/legend.h"
 #include "slipfit/render/segment_palette.h"
 #include "slipfit/render/splat_renderer.h"
+#include "slipfit/segmentation/segment_axis.h"
 #include "slipfit/segmentation/segmentation.h"
 #include "slipfit/segmentation/segmentation_carry_back.h"
 #include "slipfit/slippage/shape_classification.h"
@@ -59,7 +60,9 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
         .allowEmpty()
         .fileName(".ply");
     o.add("segment_files", segment_files_, "Also write each segment as segment_<label>.ply.");
-    o.add("render", render_, "File name of a PNG picture of the segments (empty: none).")
+    o.add("render", render_,
+          "File name of a PNG picture of the segments, each kinematic segment with its axis "
+          "(empty: none).")
         .allowEmpty()
         .fileName(".png");
     o.bind(render_parameters_);
@@ -306,7 +309,18 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
       *camera.eye -= data.frame.shift;  // the config's eye is in the input's frame
     if (!render_parameters_.eye && data.sensor)
       useSensorCamera(camera, data.sensor->origin, data.sensor->orientation, x, -data.frame.shift);
-    std::vector<std::uint8_t> image = renderSplats(x, rgb, nn, camera);
+    // Each kinematic segment's axis, over the stretch its points cover and a sixth more.
+    std::vector<RenderLine> axes;
+    for (std::size_t k = 0; k < result.segments.size(); ++k)
+      if (const auto ends = axisStretch(result.segments[k], x, 1.0 / 6.0)) {
+        RenderLine line;
+        line.from = (*ends)[0];
+        line.to = (*ends)[1];
+        const Rgb c = segmentColour(k);
+        std::copy(c.begin(), c.end(), line.colour);
+        axes.push_back(line);
+      }
+    std::vector<std::uint8_t> image = renderSplats(x, rgb, nn, camera, axes);
     if (camera.legend) {
       std::vector<std::string> types;
       std::vector<std::size_t> points;

@@ -79,7 +79,8 @@ void useSensorCamera(RenderParameters& parameters, const Eigen::Vector3d& origin
 std::vector<std::uint8_t> renderSplats(
     const Eigen::Ref<const Eigen::Matrix3Xf>& points,
     const Eigen::Ref<const Eigen::Matrix<std::uint8_t, 3, Eigen::Dynamic>>& colors,
-    const Eigen::Ref<const Eigen::Matrix3Xf>& normals, const RenderParameters& parameters) {
+    const Eigen::Ref<const Eigen::Matrix3Xf>& normals, const RenderParameters& parameters,
+    const std::vector<RenderLine>& lines) {
   parameters.validate();
   if (colors.cols() != points.cols() || (normals.cols() != 0 && normals.cols() != points.cols()))
     throw DegenerateInputError("render: points, colours and normals differ in number");
@@ -187,6 +188,63 @@ std::vector<std::uint8_t> renderSplats(
       }
     }
   }
+
+  // The lines, clipped to the half-space in front of the eye, stepped a pixel at a time.
+  const double near = 1e-6 * depth;
+  const auto paint = [&](double u, double v, int half, const std::uint8_t* rgb) {
+    const int cu = static_cast<int>(std::floor(u)), cv = static_cast<int>(std::floor(v));
+    for (int y = cv - half; y <= cv + half; ++y)
+      for (int x = cu - half; x <= cu + half; ++x)
+        if (x >= 0 && x < w && y >= 0 && y < h)
+          std::copy(rgb, rgb + 3, image.begin() + 3 * (static_cast<std::ptrdiff_t>(y) * w + x));
+  };
+  for (const int pass : {0, 1})  // the black bands of every line first, then their cores
+    for (const RenderLine& line : lines) {
+      Eigen::Vector3d a = line.from - eye, b = line.to - eye;
+      if (!a.allFinite() || !b.allFinite())
+        continue;
+      double za = a.dot(forward), zb = b.dot(forward);
+      if (za < near && zb < near)
+        continue;
+      if (za < near)
+        a += (near - za) / (zb - za) * (b - a);
+      else if (zb < near)
+        b += (near - zb) / (za - zb) * (a - b);
+      za = a.dot(forward);
+      zb = b.dot(forward);
+      const Eigen::Vector2d pa(w / 2.0 + focal * a.dot(right) / za,
+                               h / 2.0 - focal * a.dot(up) / za);
+      const Eigen::Vector2d pb(w / 2.0 + focal * b.dot(right) / zb,
+                               h / 2.0 - focal * b.dot(up) / zb);
+      // The part within the image (and 2 pixels round it): Liang–Barsky on the parameter t of
+      // pa + t (pb − pa).
+      const Eigen::Vector2d d = pb - pa;
+      double t0 = 0.0, t1 = 1.0;
+      const double lo[2] = {-2.0, -2.0}, hi[2] = {w + 2.0, h + 2.0};
+      for (int a = 0; a < 2 && t0 <= t1; ++a) {
+        if (d[a] == 0.0) {
+          if (pa[a] < lo[a] || pa[a] > hi[a])
+            t1 = -1.0;
+          continue;
+        }
+        const double e0 = (lo[a] - pa[a]) / d[a], e1 = (hi[a] - pa[a]) / d[a];
+        t0 = std::max(t0, std::min(e0, e1));
+        t1 = std::min(t1, std::max(e0, e1));
+      }
+      if (!(t0 <= t1))
+        continue;
+      const Eigen::Vector2d from = pa + t0 * d, to = pa + t1 * d;
+      const auto steps = static_cast<int>(std::ceil((to - from).norm()));
+      static const std::uint8_t black[3] = {0, 0, 0};
+      for (int k = 0; k <= steps; ++k) {
+        const Eigen::Vector2d q =
+            steps == 0 ? from : from + (to - from) * (static_cast<double>(k) / steps);
+        if (pass == 0)
+          paint(q.x(), q.y(), 1, black);
+        else
+          paint(q.x(), q.y(), 0, line.colour);
+      }
+    }
   return image;
 }
 

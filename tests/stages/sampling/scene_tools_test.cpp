@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iostream>
 #include <random>
@@ -191,7 +192,8 @@ TEST(Subsampling, VoxelMeansOfADenseNoisyPlaneLieCloserToItThanItsPoints) {
   EXPECT_LT(rms, 0.87 * sigma);
 }
 
-TEST(SplatRenderer, NearestSplatWinsAndColoursAreShaded) {
+/// A 64 × 48 picture from (0, 0, 10) looking down at the origin, y up, splats of 3 pixels.
+RenderParameters lookingDownAtTheOrigin() {
   RenderParameters r;
   r.width = 64;
   r.height = 48;
@@ -199,6 +201,11 @@ TEST(SplatRenderer, NearestSplatWinsAndColoursAreShaded) {
   r.target = Eigen::Vector3d::Zero();
   r.up = Eigen::Vector3d::UnitY();
   r.splat_radius = 3.0;
+  return r;
+}
+
+TEST(SplatRenderer, NearestSplatWinsAndColoursAreShaded) {
+  const RenderParameters r = lookingDownAtTheOrigin();
   Eigen::Matrix3Xf x(3, 2), n(3, 2);
   x << 0, 0, 0, 0, 0, 1;  // two points on the view axis; the second is nearer the eye
   n << 0, 0, 0, 0, 1, 1;
@@ -215,6 +222,47 @@ TEST(SplatRenderer, NearestSplatWinsAndColoursAreShaded) {
   const std::vector<std::uint8_t> far =
       renderSplats(x.leftCols(1), c.leftCols(1), n.leftCols(1), r);
   EXPECT_NEAR(far[centre], 200, 1);
+}
+
+// Lines go over the splats (an axis inside a solid shows): a horizontal line 5 units before the
+// eye through the view axis is a 1-pixel core of its colour on the centre row, with black rows
+// above and below, over the red point it passes in front of; its ends at x = ±1 land at
+// 32 ± focal / 5 (focal = 24 / tan 0.35 = 65.7 pixels). A line behind the eye draws nothing.
+TEST(SplatRenderer, LinesAreDrawnOverTheSplatsAndClippedAtTheEye) {
+  const RenderParameters r = lookingDownAtTheOrigin();
+  Eigen::Matrix3Xf x(3, 1), n(3, 0);
+  x << 0, 0, 0;
+  Eigen::Matrix<std::uint8_t, 3, Eigen::Dynamic> c(3, 1);
+  c << 200, 0, 0;
+  RenderLine across;
+  across.from = Eigen::Vector3d(-1, 0, 5);
+  across.to = Eigen::Vector3d(1, 0, 5);
+  across.colour[0] = 10;
+  across.colour[1] = 20;
+  across.colour[2] = 30;
+  RenderLine behind = across;
+  behind.from = Eigen::Vector3d(0, 0, 11);
+  behind.to = Eigen::Vector3d(1, 0, 12);
+  const std::vector<std::uint8_t> plain = renderSplats(x, c, n, r);
+  const std::vector<std::uint8_t> image = renderSplats(x, c, n, r, {across, behind});
+  const auto at = [&](int row, int column) {
+    const std::size_t k =
+        (static_cast<std::size_t>(row) * 64 + static_cast<std::size_t>(column)) * 3;
+    return std::array<int, 3>{image[k], image[k + 1], image[k + 2]};
+  };
+  EXPECT_EQ(plain[(24u * 64u + 32u) * 3u], 200);  // the point, under the line
+  for (const int column : {20, 32, 44}) {
+    EXPECT_EQ(at(24, column), (std::array<int, 3>{10, 20, 30})) << column;
+    EXPECT_EQ(at(23, column), (std::array<int, 3>{0, 0, 0})) << column;
+    EXPECT_EQ(at(25, column), (std::array<int, 3>{0, 0, 0})) << column;
+  }
+  EXPECT_EQ(at(24, 16), (std::array<int, 3>{255, 255, 255}));  // past its end, 32 − 13.1
+  EXPECT_EQ(at(24, 48), (std::array<int, 3>{255, 255, 255}));
+  // Nothing else changed: the behind line drew nothing.
+  std::size_t changed = 0;
+  for (std::size_t k = 0; k < image.size(); k += 3)
+    changed += image[k] != plain[k] || image[k + 1] != plain[k + 1] || image[k + 2] != plain[k + 2];
+  EXPECT_EQ(changed, 3u * 30u);  // rows 23-25, columns 17-46 (the ends' pixels ± the band)
 }
 
 // A sensor at (1, 2, 3) turned 90° about x (its z axis along −y of the world, its y along +z):

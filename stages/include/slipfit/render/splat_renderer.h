@@ -66,12 +66,22 @@ void useSensorCamera(RenderParameters& parameters, const Eigen::Vector3d& origin
                      const Eigen::Ref<const Eigen::Matrix3Xf>& points,
                      const Eigen::Vector3d& frame_origin);
 
+/// A line segment drawn over the splats, whatever lies in front of it (an axis inside a solid
+/// shows): a black band 3 pixels wide with a 1-pixel core of its colour.
+struct RenderLine {
+  Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
+  std::uint8_t colour[3] = {0, 0, 0};
+};
+
 /// Renders 3 × N points with per-point RGB colours (3 × N) and optional normals (3 × N, any sign;
 /// 0 columns: flat colour) into a row-major RGB image of width × height × 3 bytes. Lambert
 /// shading with a head light; the nearest splat wins each pixel. Non-finite points are skipped.
+/// Then \a lines are drawn on top, the part of each in front of the eye (the camera is the
+/// splats': the lines do not move it).
 std::vector<std::uint8_t> renderSplats(
     const Eigen::Ref<const Eigen::Matrix3Xf>& points,
     const Eigen::Ref<const Eigen::Matrix<std::uint8_t, 3, Eigen::Dynamic>>& colors,
-    const Eigen::Ref<const Eigen::Matrix3Xf>& normals, const RenderParameters& parameters);
+    const Eigen::Ref<const Eigen::Matrix3Xf>& normals, const RenderParameters& parameters,
+    const std::vector<RenderLine>& lines = {});
 
 }  // namespace slipfit
