@@ -34,7 +34,7 @@ for max in 0 default; do
   read -r wall peak < <(tail -1 "$work/time")
   tiles=$(sed -n 's/^tiling: [0-9]* points.* into \([0-9]*\) tiles.*/\1/p' "$work/report")
   fullest=$(sed -n 's/^  - \[[^,]*, [^,]*, [^,]*, [^,]*, \([0-9]*\),.*/\1/p' \
-    "$out/tiles/manifest.yaml" 2>/dev/null | sort -n | tail -1)
+    "$out/tiles/manifest.yaml" 2>/dev/null | sort -n | tail -1 || true)
   iou=-
   [ "$code" = 0 ] && iou=$("$score" "$cloud" "$out" 2>/dev/null | tr ' ' '\n' |
     sed -n 's/^mean_iou=//p' || true)
