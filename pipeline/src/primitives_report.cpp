@@ -164,4 +164,31 @@ std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const st
   return std::string(e.c_str()) + "\n";
 }
 
+std::optional<Primitive> readPrimitive(const YAML::Node& entry, const Eigen::Vector3d& shift) {
+  try {
+    if (entry["status"] && entry["status"].as<std::string>() != "ok")
+      return std::nullopt;
+    const auto v = [&](const char* key) {
+      const YAML::Node n = entry[key];
+      return Eigen::Vector3d(n[0].as<double>(), n[1].as<double>(), n[2].as<double>());
+    };
+    const auto x = [&](const char* key) { return entry[key].as<double>(); };
+    const std::string type = entry["type"].as<std::string>();
+    if (type == primitiveTypeName(PrimitiveType::plane)) {
+      const Eigen::Vector3d n = v("normal");
+      return Plane{n, x("d") - n.dot(shift)};
+    }
+    if (type == primitiveTypeName(PrimitiveType::sphere))
+      return Sphere{v("center") - shift, x("radius")};
+    if (type == primitiveTypeName(PrimitiveType::cylinder))
+      return Cylinder{v("axis"), v("point") - shift, x("radius")};
+    if (type == primitiveTypeName(PrimitiveType::cone))
+      return Cone{v("axis"), v("apex") - shift, x("half_angle")};
+    if (type == primitiveTypeName(PrimitiveType::torus))
+      return Torus{v("axis"), v("center") - shift, x("major_radius"), x("minor_radius")};
+  } catch (const YAML::Exception&) {
+  }
+  return std::nullopt;
+}
+
 }  // namespace slipfit::pipeline

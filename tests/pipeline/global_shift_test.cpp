@@ -14,7 +14,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
+#include <variant>
+#include <vector>
 
 namespace slipfit::testing {
 namespace {
@@ -42,6 +45,62 @@ TEST(GlobalShift, ReportPositionsAreInTheInputsFrame) {
   EXPECT_DOUBLE_EQ(s["center"][2].as<double>(), 3 + 120);
   EXPECT_DOUBLE_EQ(s["radius"].as<double>(), 0.5);
   EXPECT_FALSE(YAML::Load(pipeline::primitivesYaml({sphere}, "test"))["global_shift"]);
+}
+
+// What a tiled run's merge reads back from each tile's report (readPrimitive): every type's
+// parameters in the frame they were computed in, the shift taken off again (the sums round at
+// 5.4e6: a few 1e-10 off); no primitive for a failed fit or a kinematic surface.
+TEST(GlobalShift, ReportedPrimitivesReadBackInTheFrameTheyWereComputedIn) {
+  const Eigen::Vector3d t(5e5, 5.4e6, 120);
+  const std::vector<Primitive> fits = {
+      Plane{Eigen::Vector3d(0, 0.6, 0.8), 2.0}, Sphere{Eigen::Vector3d(1, 2, 3), 0.5},
+      Cylinder{Eigen::Vector3d(0, 0.8, 0.6), Eigen::Vector3d(-1, 0.5, 2), 0.3},
+      Cone{Eigen::Vector3d(0.6, 0, -0.8), Eigen::Vector3d(4, -2, 1), 0.4},
+      Torus{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(3, 3, 0.5), 1.0, 0.25}};
+  std::vector<pipeline::PrimitiveRecord> records;
+  for (const Primitive& f : fits) {
+    pipeline::PrimitiveRecord r;
+    r.fit.type = static_cast<PrimitiveType>(f.index());
+    r.fit.refined = r.fit.algebraic = f;
+    records.push_back(r);
+  }
+  records.push_back(records[3]);
+  records.back().fit.status = FitStatus::degenerate;
+  const YAML::Node report = YAML::Load(pipeline::primitivesYaml(records, "test", t));
+  ASSERT_EQ(report["primitives"].size(), 6u);
+  const auto near = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return (a - b).norm() < 1e-8;
+  };
+  for (std::size_t k = 0; k < fits.size(); ++k) {
+    const std::optional<Primitive> back = pipeline::readPrimitive(report["primitives"][k], t);
+    ASSERT_TRUE(back.has_value()) << k;
+    ASSERT_EQ(back->index(), fits[k].index());
+    std::visit(
+        [&](const auto& a) {
+          using T = std::decay_t<decltype(a)>;
+          const T& b = std::get<T>(*back);
+          if constexpr (std::is_same_v<T, Plane>) {
+            EXPECT_TRUE(near(a.normal, b.normal));
+            EXPECT_NEAR(a.d, b.d, 1e-8);
+          } else if constexpr (std::is_same_v<T, Sphere>) {
+            EXPECT_TRUE(near(a.center, b.center));
+            EXPECT_EQ(a.radius, b.radius);
+          } else if constexpr (std::is_same_v<T, Cylinder>) {
+            EXPECT_TRUE(near(a.axis, b.axis) && near(a.point, b.point));
+            EXPECT_EQ(a.radius, b.radius);
+          } else if constexpr (std::is_same_v<T, Cone>) {
+            EXPECT_TRUE(near(a.axis, b.axis) && near(a.apex, b.apex));
+            EXPECT_EQ(a.half_angle, b.half_angle);
+          } else {
+            EXPECT_TRUE(near(a.axis, b.axis) && near(a.center, b.center));
+            EXPECT_EQ(a.major_radius, b.major_radius);
+            EXPECT_EQ(a.minor_radius, b.minor_radius);
+          }
+        },
+        fits[k]);
+  }
+  EXPECT_FALSE(pipeline::readPrimitive(report["primitives"][5], t).has_value());  // degenerate
+  EXPECT_FALSE(pipeline::readPrimitive(YAML::Load("{type: revolution, status: ok}")).has_value());
 }
 
 TEST(GlobalShift, NoneNearTheOriginARoundNumberFarFromIt) {

@@ -14,11 +14,14 @@
 #include "slipfit/render/segment_palette.h"
 #include "slipfit/tiling/segment_joining.h"
 
+#include <yaml-cpp/yaml.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <numeric>
+#include <optional>
 
 namespace slipfit::pipeline::tiling {
 
@@ -34,10 +37,31 @@ struct Joined {
   std::string seed_slippage_type;
   std::size_t pieces_left = 0;  ///< pieces whose samples are still to come
   std::vector<double> samples;  ///< x, y, z, nx, ny, nz, weight per sample
+  /// The fit of its largest piece that has one (relative to the merge's origin): where the closed
+  /// form on the samples fails, the refit starts from it.
+  std::optional<Primitive> start;
+  std::uint64_t start_points = 0;
   FitResult fit;
   double sum_squares = 0.0, max_distance = 0.0;
   std::uint64_t inliers = 0;
 };
+
+}  // namespace
+
+FitResult refitJoined(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                      const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                      const Eigen::Ref<const Eigen::VectorXd>& weights,
+                      const std::optional<Primitive>& start) {
+  FitResult fit = fitPrimitive(type, points, normals, weights);
+  if (!fit.ok() && start && start->index() == static_cast<std::size_t>(type)) {
+    FitResult warm = fitFrom(*start, points, weights);
+    if (warm.ok())
+      return warm;
+  }
+  return fit;
+}
+
+namespace {
 
 /// Refits \a j on its samples (at most kMostRefitPoints: every k-th, its weight × k), the
 /// coordinates taken relative to \a origin.
@@ -56,7 +80,7 @@ void refit(Joined& j, const Eigen::Vector3d& origin) {
     normals.col(k) = Eigen::Vector3d(s[3], s[4], s[5]);
     weights(k) = s[6] * static_cast<double>(stride);
   }
-  j.fit = fitPrimitive(static_cast<PrimitiveType>(j.type), points, normals, weights);
+  j.fit = refitJoined(static_cast<PrimitiveType>(j.type), points, normals, weights, j.start);
   j.samples.clear();
   j.samples.shrink_to_fit();
 }
@@ -246,6 +270,22 @@ TileRows writeTileRows(const std::string& ply, const std::vector<StreamField>& f
   return w;
 }
 
+/// Each label's fit in a tile's report (\a path), relative to \a origin; labels whose fit failed
+/// or is not a primitive are left out.
+std::map<std::int32_t, Primitive> readTileFits(const std::string& path,
+                                               const Eigen::Vector3d& origin) {
+  std::map<std::int32_t, Primitive> fits;
+  try {
+    for (const YAML::Node& entry : YAML::LoadFile(path)["primitives"])
+      if (entry["label"])
+        if (const std::optional<Primitive> p = readPrimitive(entry, origin))
+          fits.emplace(entry["label"].as<std::int32_t>(), *p);
+  } catch (const YAML::Exception& e) {
+    throw RunError("'" + path + "': " + e.what());
+  }
+  return fits;
+}
+
 }  // namespace
 
 MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
@@ -280,7 +320,14 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
   // The pieces: every tile's segments, numbered tile after tile.
   std::vector<std::vector<TileSegment>> pieces(tiles);
   std::vector<std::size_t> first(tiles + 1, 0);
-  forEachOnWorkers(tiles, workers, [&](std::size_t t) { pieces[t] = readTileSegments(dirOf(t)); });
+  // The pieces' own fits, relative to the merge's origin (the refits' frame).
+  const Eigen::Vector3d origin = globalShift(Eigen::Vector3d(m.lo[0], m.lo[1], m.lo[2]),
+                                             Eigen::Vector3d(m.hi[0], m.hi[1], m.hi[2]));
+  std::vector<std::map<std::int32_t, Primitive>> fits(tiles);
+  forEachOnWorkers(tiles, workers, [&](std::size_t t) {
+    pieces[t] = readTileSegments(dirOf(t));
+    fits[t] = readTileFits(dirOf(t) + "/" + report_name, origin);
+  });
   for (std::size_t t = 0; t < tiles; ++t)
     first[t + 1] = first[t] + pieces[t].size();
   DisjointSets sets(first[tiles]);
@@ -333,6 +380,11 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
         j.type = s.type;
         j.seed_slippage_type = s.seed_slippage_type;
       }
+      const auto own = fits[t].find(static_cast<std::int32_t>(l));
+      if (own != fits[t].end() && s.core_points > j.start_points) {
+        j.start = own->second;
+        j.start_points = s.core_points;
+      }
       j.core_points += s.core_points;
       j.inlier_distance = std::max(j.inlier_distance, s.inlier_distance);
       ++j.pieces_left;
@@ -364,8 +416,6 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
   };
 
   // Refits on the union of the pieces' samples, each segment as soon as its last piece is read.
-  const Eigen::Vector3d origin = globalShift(Eigen::Vector3d(m.lo[0], m.lo[1], m.lo[2]),
-                                             Eigen::Vector3d(m.hi[0], m.hi[1], m.hi[2]));
   for (std::size_t t = 0; t < tiles; ++t) {
     const TileSamples s = readTileSamples(dirOf(t));
     for (std::size_t k = 0; k < s.labels.size(); ++k) {

@@ -6,11 +6,13 @@
 
 #include "tiler.h"
 
+#include "slipfit/fitting/weighted_fit.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/tile_roles.h"
 #include "slipfit/render/splat_renderer.h"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace slipfit::pipeline::tiling {
@@ -25,6 +27,16 @@ struct MergeSummary {
 
 /// The picture of the merged segments draws at most kRenderedPoints of them (every k-th written).
 constexpr std::uint64_t kRenderedPoints = 2000000;
+
+/// The fit of a joined segment's samples (\a points relative to the merge's origin, \a normals,
+/// \a weights): fitPrimitive's closed form and refinement, or where that fails \a start — the fit
+/// of the segment's largest piece — refined on them (fitFrom). The closed forms of cones,
+/// cylinders and tori read the normals; on a dense tile analysed at a coarse voxel they can be
+/// too noisy for them (a 20 M-point scene's cone: its apex from the normals at z 0.375, not 1).
+FitResult refitJoined(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                      const Eigen::Ref<const Eigen::Matrix3Xd>& normals,
+                      const Eigen::Ref<const Eigen::VectorXd>& weights,
+                      const std::optional<Primitive>& start);
 
 /// Merges the finished runs of \a manifest's tiles (their files in \a tiles_dir) in \a runs_dir
 /// (one directory per tile) into

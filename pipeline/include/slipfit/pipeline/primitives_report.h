@@ -7,6 +7,8 @@
 #include "slipfit/fitting/weighted_fit.h"
 #include "slipfit/slippage/slippage.h"
 
+#include <yaml-cpp/node/node.h>
+
 #include <map>
 #include <optional>
 #include <string>
@@ -33,5 +35,11 @@ struct PrimitiveRecord {
 /// listed as `global_shift` when it is not zero.
 std::string primitivesYaml(const std::vector<PrimitiveRecord>& records, const std::string& source,
                            const Eigen::Vector3d& shift = Eigen::Vector3d::Zero());
+
+/// The primitive of one entry of primitives.yaml (its `type` and parameters, as primitivesYaml
+/// writes them), less \a shift: the fit in the frame the parameters were written from. Empty for an
+/// entry whose status is not ok, of another type (a kinematic surface) or missing a parameter.
+std::optional<Primitive> readPrimitive(const YAML::Node& entry,
+                                       const Eigen::Vector3d& shift = Eigen::Vector3d::Zero());
 
 }  // namespace slipfit::pipeline
