@@ -79,7 +79,8 @@ TEST(LevenbergMarquardt, ALinearProblemEndsOnItsLeastSquaresSolution) {
   // δᵀ AᵀA δ, is below that: ‖δ‖ ≤ √(1e-14 · cost / λ_min(AᵀA)) (rounding, ε κ² ‖x‖ ≈ 1e-15 with
   // κ(A) ≈ 1.4, is far below).
   const double least = (problem.a * best - problem.b).squaredNorm();
-  const double lambda_min = (problem.a.transpose() * problem.a).eigenvalues().real().minCoeff();
+  const Eigen::MatrixXd normal = problem.a.transpose() * problem.a;
+  const double lambda_min = normal.selfadjointView<Eigen::Lower>().eigenvalues().minCoeff();
   EXPECT_LT((x - best).norm(), std::sqrt(1e-14 * least / lambda_min));
   EXPECT_NEAR(out.cost, least, 1e-14 * least);
 }

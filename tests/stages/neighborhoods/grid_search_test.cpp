@@ -13,14 +13,14 @@
 namespace slipfit {
 namespace {
 
-using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+using XyzCloud = pcl::PointCloud<pcl::PointXYZ>;
 
 // A pinhole camera (f = 200 px, 120 × 90 pixels) looking along +z at a wall at depth
 // z = 2 + 0.6 x + 0.25 y (tilted about 33° from the view axis) with a box face at z = 0.9 in
 // front of its middle (a depth discontinuity of about 1.1 m). Every 7th pixel of one column band
 // is a hole. Only the finite returns are kept, each with its pixel.
 struct Frame {
-  Cloud::Ptr cloud{new Cloud};
+  XyzCloud::Ptr cloud{new XyzCloud};
   PixelGrid grid;
   std::vector<char> box;  // per point: on the box face
 };
@@ -184,7 +184,7 @@ TEST(GridSearch, RefusesABadGridAndQueriesItCannotAnswer) {
   pcl::Indices ind;
   std::vector<float> d;
   EXPECT_THROW(grid.nearestKSearch(pcl::PointXYZ(0, 0, 1), 3, ind, d), InvalidParameterError);
-  const Cloud other = *f.cloud;
+  const XyzCloud other = *f.cloud;
   EXPECT_THROW(grid.radiusSearch(other, 0, 0.1, ind, d), InvalidParameterError);
 }
 

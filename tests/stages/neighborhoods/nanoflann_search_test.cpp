@@ -19,14 +19,14 @@
 namespace slipfit {
 namespace {
 
-using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+using XyzCloud = pcl::PointCloud<pcl::PointXYZ>;
 
 /// \a n points uniform in a unit cube, every 37th non-finite; on a grid of 1/64 (many equal
 /// distances) when \a grid; every tenth a copy of an earlier one (exact ties) when \a copies.
-Cloud::Ptr testCloud(std::size_t n, unsigned seed, bool grid, bool copies = true) {
+XyzCloud::Ptr testCloud(std::size_t n, unsigned seed, bool grid, bool copies = true) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  auto cloud = pcl::make_shared<Cloud>();
+  auto cloud = pcl::make_shared<XyzCloud>();
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector3f w = randomVector<3>(u, rng);
     pcl::PointXYZ p(w.x(), w.y(), w.z());
@@ -45,7 +45,8 @@ Cloud::Ptr testCloud(std::size_t n, unsigned seed, bool grid, bool copies = true
 
 /// Every finite point of \a cloud with its squared distance to \a q (computed as PCL's L2 does,
 /// in float), nearest first, ties by index.
-std::vector<std::pair<float, pcl::index_t>> bruteForce(const Cloud& cloud, const pcl::PointXYZ& q) {
+std::vector<std::pair<float, pcl::index_t>> bruteForce(const XyzCloud& cloud,
+                                                       const pcl::PointXYZ& q) {
   std::vector<std::pair<float, pcl::index_t>> all;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const auto& p = cloud[i];
@@ -60,7 +61,7 @@ std::vector<std::pair<float, pcl::index_t>> bruteForce(const Cloud& cloud, const
 
 TEST(NanoflannSearch, KNearestAreBruteForcesInItsOrder) {
   for (const bool grid : {false, true}) {
-    const Cloud::Ptr cloud = testCloud(3000, 5, grid);
+    const XyzCloud::Ptr cloud = testCloud(3000, 5, grid);
     NanoflannSearch<pcl::PointXYZ> search;
     search.setInputCloud(cloud);
     pcl::Indices ind;
@@ -81,7 +82,7 @@ TEST(NanoflannSearch, KNearestAreBruteForcesInItsOrder) {
 }
 
 TEST(NanoflannSearch, RadiusListsAreBruteForcesAndMaxNnKeepsTheNearest) {
-  const Cloud::Ptr cloud = testCloud(3000, 6, true);
+  const XyzCloud::Ptr cloud = testCloud(3000, 6, true);
   NanoflannSearch<pcl::PointXYZ> search;
   search.setInputCloud(cloud);
   pcl::Indices ind;
@@ -107,14 +108,14 @@ TEST(NanoflannSearch, RadiusListsAreBruteForcesAndMaxNnKeepsTheNearest) {
 
 // With indices, only those points are searched and returned, under their cloud indices.
 TEST(NanoflannSearch, IndicesRestrictTheSearchedPoints) {
-  const Cloud::Ptr cloud = testCloud(2000, 7, false);
+  const XyzCloud::Ptr cloud = testCloud(2000, 7, false);
   auto half = pcl::make_shared<pcl::Indices>();
   for (std::size_t i = 0; i < cloud->size(); i += 2)
     half->push_back(static_cast<pcl::index_t>(i));
   NanoflannSearch<pcl::PointXYZ> search;
   search.setInputCloud(cloud, half);
   EXPECT_EQ(search.getIndices(), half);
-  Cloud even;
+  XyzCloud even;
   for (pcl::index_t i : *half)
     even.push_back((*cloud)[static_cast<std::size_t>(i)]);
   pcl::Indices ind;
@@ -130,7 +131,7 @@ TEST(NanoflannSearch, IndicesRestrictTheSearchedPoints) {
 // normals NormalEstimation gives with PCL's kd-tree (on points without ties at the k-th
 // neighbour the lists are the same sets; the covariance does not depend on their order).
 TEST(NanoflannSearch, PclsNormalEstimationRunsWithItAsItsSearchMethod) {
-  const Cloud::Ptr cloud = testCloud(4000, 8, false, false);
+  const XyzCloud::Ptr cloud = testCloud(4000, 8, false, false);
   pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
   ne.setInputCloud(cloud);
   ne.setKSearch(12);

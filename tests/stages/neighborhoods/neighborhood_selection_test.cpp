@@ -17,10 +17,10 @@
 namespace slipfit {
 namespace {
 
-using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+using XyzCloud = pcl::PointCloud<pcl::PointXYZ>;
 
-Cloud::Ptr randomCloud(std::size_t n, std::uint64_t seed) {
-  auto c = std::make_shared<Cloud>();
+XyzCloud::Ptr randomCloud(std::size_t n, std::uint64_t seed) {
+  auto c = std::make_shared<XyzCloud>();
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   for (std::size_t i = 0; i < n; ++i) {
@@ -31,7 +31,7 @@ Cloud::Ptr randomCloud(std::size_t n, std::uint64_t seed) {
 }
 
 /// Squared distances from point i to every point, sorted ascending (with the index).
-std::vector<std::pair<float, int>> bruteForce(const Cloud& c, std::size_t i) {
+std::vector<std::pair<float, int>> bruteForce(const XyzCloud& c, std::size_t i) {
   std::vector<std::pair<float, int>> all;
   for (std::size_t j = 0; j < c.size(); ++j)
     all.emplace_back((c[j].getVector3fMap() - c[i].getVector3fMap()).squaredNorm(),
@@ -53,7 +53,7 @@ NeighborhoodParameters withRadius(NeighborhoodMode mode, double radius) {
   return p;
 }
 
-Neighborhoods select(const Cloud::Ptr& cloud, const NeighborhoodParameters& p) {
+Neighborhoods select(const XyzCloud::Ptr& cloud, const NeighborhoodParameters& p) {
   NeighborhoodSelection<pcl::PointXYZ> s;
   s.setParameters(p);
   s.setInputCloud(cloud);
@@ -116,7 +116,7 @@ TEST(NeighborhoodSelection, HybridIsKnnCappedByRadius) {
 }
 
 TEST(NeighborhoodSelection, AdaptiveSizesInRangeAndPrefixesOfKmax) {
-  auto cloud = std::make_shared<Cloud>();
+  auto cloud = std::make_shared<XyzCloud>();
   // A plane next to a volume: planar points prefer their coplanar neighbors.
   for (const auto& p : testing::samplePlane(1500, 0, 1, 0, 1, 0, 5))
     cloud->push_back(pcl::PointXYZ(p.x, p.y, p.z));
@@ -194,7 +194,7 @@ TEST(NeighborhoodSelection, RejectsBadParametersAndInput) {
   EXPECT_THROW(q.validate(), InvalidParameterError);
 
   NeighborhoodSelection<pcl::PointXYZ> s;
-  s.setInputCloud(std::make_shared<Cloud>());
+  s.setInputCloud(std::make_shared<XyzCloud>());
   Neighborhoods h;
   EXPECT_THROW(s.compute(h), DegenerateInputError);
 }

@@ -14,12 +14,12 @@
 namespace slipfit {
 namespace {
 
-using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+using XyzCloud = pcl::PointCloud<pcl::PointXYZ>;
 
 /// \a n points on a 1 cm lattice in a 1 m cube, in random order: many equal distances, so that
 /// the lists' ties are tested too.
-Cloud::Ptr shuffledLattice(std::size_t n, std::uint64_t seed) {
-  auto c = std::make_shared<Cloud>();
+XyzCloud::Ptr shuffledLattice(std::size_t n, std::uint64_t seed) {
+  auto c = std::make_shared<XyzCloud>();
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<int> cell(0, 99);
   for (std::size_t i = 0; i < n; ++i) {
@@ -29,7 +29,7 @@ Cloud::Ptr shuffledLattice(std::size_t n, std::uint64_t seed) {
   return c;
 }
 
-double meanStep(const Cloud& c, const pcl::Indices& order) {
+double meanStep(const XyzCloud& c, const pcl::Indices& order) {
   double sum = 0.0;
   for (std::size_t k = 1; k < order.size(); ++k)
     sum += (c[order[k]].getVector3fMap() - c[order[k - 1]].getVector3fMap()).norm();

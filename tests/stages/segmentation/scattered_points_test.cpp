@@ -4,6 +4,7 @@
 // 193 segments for its 10 primitives: 183 of them spheres, cylinders and tori of 13–60 points, 89 %
 // of their points outliers.
 
+#include "live_regions.h"
 #include "points_cloud.h"
 #include "segment_cloud.h"
 
@@ -22,13 +23,6 @@ namespace slipfit {
 namespace {
 
 using Phase = SegmentationKernel::Phase;
-
-std::size_t live(const SegmentationKernel& kernel) {
-  std::size_t count = 0;
-  for (const auto& region : kernel.regions())
-    count += region.empty() ? 0 : 1;
-  return count;
-}
 
 /// The live regions of which at least half the points are outliers (true label −1).
 std::size_t outlierRegions(const SegmentationKernel& kernel,
@@ -82,7 +76,7 @@ TEST(ScatteredPoints, OutliersInTheVolumeAreNoSmallFaces) {
     EXPECT_EQ(outlierRegions(kernel, truth), 0u) << what << ": after recoverSmallFaces";
     kernel.runPhases(Phase::absorb_fragments, Phase::drop_non_surfaces);
     EXPECT_EQ(outlierRegions(kernel, truth), 0u) << what;
-    EXPECT_LE(live(kernel), scenePrimitives().size() + 1) << what;
+    EXPECT_LE(testing::liveRegions(kernel), scenePrimitives().size() + 1) << what;
   }
 }
 

@@ -1,6 +1,7 @@
 // The segmentation kernel's phases, run one at a time and inspected between them.
 
 #include "kinect_plane.h"
+#include "live_regions.h"
 #include "points_cloud.h"
 #include "segment_cloud.h"
 
@@ -55,13 +56,6 @@ pcl::PointCloud<pcl::PointNormal>::Ptr sampledCloud(const PrimitiveSamplingParam
   return testing::pointsCloud(p);
 }
 
-std::size_t live(const SegmentationKernel& kernel) {
-  std::size_t count = 0;
-  for (const auto& r : kernel.regions())
-    count += r.empty() ? 0 : 1;
-  return count;
-}
-
 // Uniform random points in a cube: the growth phases find "surfaces" through them (any dozen
 // points lie within a tolerance of some primitive), and dropNonSurfaces removes them because their
 // points fill the tolerance slab (RMS ≈ 0.58 ε, not ≤ 0.45 ε). The test is statistical: measured
@@ -81,11 +75,11 @@ TEST(SegmentationKernel, RegionsGrownInRandomPointsAreDroppedAsVolumes) {
   const Inputs in = prepare(cloud, 12);
   SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
   kernel.runPhases(Phase::estimate_scale, Phase::recover_small_faces, {Phase::revise_types});
-  const std::size_t grown = live(kernel);
+  const std::size_t grown = testing::liveRegions(kernel);
   EXPECT_GT(grown, 0u) << "random points always lie near some small primitive";
   kernel.run(Phase::drop_non_surfaces);
   EXPECT_GE(static_cast<double>(kernel.progress().volumes), 0.9 * static_cast<double>(grown));
-  EXPECT_EQ(live(kernel) + kernel.progress().volumes, grown);
+  EXPECT_EQ(testing::liveRegions(kernel) + kernel.progress().volumes, grown);
   const SegmentationResult r = kernel.finalize();
   std::size_t assigned = 0;
   for (std::int32_t label : r.labels)
@@ -116,9 +110,9 @@ TEST(SegmentationKernel, MergeJoinsTheBandsOfACone) {
   SegmentationKernel kernel(in.points, in.normals, *in.hoods, in.types, {});
   kernel.runPhases(Phase::estimate_scale, Phase::grow_free_seeds);
   // Measured (seed 3): 37 bands before the merge, 1 region after it.
-  EXPECT_GE(live(kernel), 2u);
+  EXPECT_GE(testing::liveRegions(kernel), 2u);
   kernel.run(Phase::merge_regions);
-  EXPECT_EQ(live(kernel), 1u);
+  EXPECT_EQ(testing::liveRegions(kernel), 1u);
   kernel.runPhases(Phase::refine_boundaries, Phase::drop_non_surfaces,
                    {Phase::absorb_fragments, Phase::merge_settled_regions});
   const SegmentationResult r = kernel.finalize();

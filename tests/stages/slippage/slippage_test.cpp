@@ -53,7 +53,7 @@ SlippageResult analyze(const Cloud3& c) {
   return analyzeSlippage(c.x, c.n, Eigen::VectorXd::Ones(c.x.cols()));
 }
 
-double angleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+double lineAngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) / kDegree;
 }
 
@@ -85,7 +85,7 @@ TEST(Slippage, RecoversAxesCentresAndApexAtOnePercentNoise) {
   const Eigen::Vector3d where(-1, 4, 2);
   SlippageResult r = analyze(primitiveCloud(Cylinder{axis, where, 0.5}, 0.005, 3));
   ASSERT_EQ(r.type, SlippageType::cylinder);
-  EXPECT_LT(angleDeg(*r.axis, axis), 1.0);
+  EXPECT_LT(lineAngleDeg(*r.axis, axis), 1.0);
   const Eigen::Vector3d off = *r.point - where;
   EXPECT_LT((off - off.dot(axis) * axis).norm(), 0.01);
 
@@ -95,11 +95,11 @@ TEST(Slippage, RecoversAxesCentresAndApexAtOnePercentNoise) {
 
   r = analyze(primitiveCloud(Plane{axis, 1.0}, 0.01, 5));
   ASSERT_EQ(r.type, SlippageType::plane);
-  EXPECT_LT(angleDeg(*r.normal, axis), 1.0);
+  EXPECT_LT(lineAngleDeg(*r.normal, axis), 1.0);
 
   r = analyze(primitiveCloud(Cone{axis, where, 25 * kDegree}, 0.01, 6));
   ASSERT_EQ(r.type, SlippageType::cone) << slippageTypeName(r.type);
-  EXPECT_LT(angleDeg(*r.axis, axis), 1.0);
+  EXPECT_LT(lineAngleDeg(*r.axis, axis), 1.0);
   EXPECT_GT(r.axis->dot(axis), 0.0) << "the cone axis points into the opening";
   EXPECT_LT((*r.point - where).norm(), 0.05);
   EXPECT_NEAR(std::get<Cone>(*r.primitive).half_angle / kDegree, 25.0, 1.0);
@@ -118,7 +118,7 @@ TEST(Slippage, TorusIsASurfaceOfRevolutionWithACircularProfile) {
   const SlippageResult r = analyzeSlippage(x, n, Eigen::VectorXd::Ones(x.cols()));
   EXPECT_EQ(r.type, SlippageType::torus) << slippageTypeName(r.type);
   EXPECT_EQ(r.motions, 1);
-  EXPECT_LT(angleDeg(*r.axis, p.axis), 1e-6);
+  EXPECT_LT(lineAngleDeg(*r.axis, p.axis), 1e-6);
 }
 
 TEST(Slippage, ExtrusionAndHelix) {
@@ -133,7 +133,7 @@ TEST(Slippage, ExtrusionAndHelix) {
   }
   SlippageResult r = analyzeSlippage(x, n, Eigen::VectorXd::Ones(3000));
   EXPECT_EQ(r.type, SlippageType::extrusion) << slippageTypeName(r.type);
-  EXPECT_LT(angleDeg(*r.axis, Eigen::Vector3d::UnitZ()), 1e-6);
+  EXPECT_LT(lineAngleDeg(*r.axis, Eigen::Vector3d::UnitZ()), 1e-6);
 
   const double h = 0.3;  // rise per radian
   for (int i = 0; i < 3000; ++i) {
@@ -165,7 +165,7 @@ TEST(Slippage, OneMotionSamplersAreClassifiedAsSuch) {
                                   << slippageTypeName(r.type);
       EXPECT_EQ(r.motions, 1) << name;
       ASSERT_TRUE(r.axis) << name;
-      EXPECT_LT(angleDeg(*r.axis, Eigen::Vector3d::UnitZ()), 1.0) << name;
+      EXPECT_LT(lineAngleDeg(*r.axis, Eigen::Vector3d::UnitZ()), 1.0) << name;
       if (expected == SlippageType::helix)
         EXPECT_NEAR(std::abs(*r.pitch), p.pitch, 0.01 * p.pitch);
     }

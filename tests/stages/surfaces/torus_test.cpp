@@ -12,10 +12,10 @@
 namespace slipfit {
 namespace {
 
-const TorusShape kTorus{3.0, 1.25};
+const TorusShape kTestTorus{3.0, 1.25};
 
 TEST(TorusBezier, SitesOfTheFirstQuarter) {
-  const auto s = torusQuarterSites(kTorus);
+  const auto s = torusQuarterSites(kTestTorus);
   EXPECT_EQ(s[4], HomogeneousPoint::Zero()) << "the middle site is the zero site";
   EXPECT_EQ(s[0], HomogeneousPoint(1, 4.25, 0, 0));
   EXPECT_EQ(s[1], HomogeneousPoint(0, 0, 4.25, 0));  // at infinity, direction +y
@@ -28,7 +28,7 @@ TEST(TorusBezier, SitesOfTheFirstQuarter) {
 }
 
 TEST(TorusBezier, CornersAndCentreAreExact) {
-  const RationalBezierPatch q = torusQuarterPatch(kTorus, 0);
+  const RationalBezierPatch q = torusQuarterPatch(kTestTorus, 0);
   EXPECT_EQ(q.evaluate(0, 0).position, Eigen::Vector3d(4.25, 0, 0));
   EXPECT_EQ(q.evaluate(1, 0).position, Eigen::Vector3d(1.75, 0, 0));
   EXPECT_EQ(q.evaluate(0, 1).position, Eigen::Vector3d(-4.25, 0, 0));
@@ -42,10 +42,10 @@ TEST(TorusBezier, RandomPointsSatisfyTheImplicitEquationAndMatchTheAngles) {
   std::uniform_real_distribution<double> angle(0.0, 2.0 * kPi);
   for (int i = 0; i < 20000; ++i) {
     const double a = angle(rng), b = angle(rng);
-    const SurfacePoint s = evaluateTorusBezier(kTorus, a, b);
-    ASSERT_LE(std::abs(torusImplicit(kTorus, s.position)), 1e-12 * kTorus.R * kTorus.R)
+    const SurfacePoint s = evaluateTorusBezier(kTestTorus, a, b);
+    ASSERT_LE(std::abs(torusImplicit(kTestTorus, s.position)), 1e-12 * kTestTorus.R * kTestTorus.R)
         << a << " " << b;
-    ASSERT_LE((s.position - torusPoint(kTorus, a, b)).norm(), 1e-12 * kTorus.R);
+    ASSERT_LE((s.position - torusPoint(kTestTorus, a, b)).norm(), 1e-12 * kTestTorus.R);
     ASSERT_LE((s.normal - torusNormal(a, b)).norm(), 1e-12)
         << "outward normal at " << a << " " << b;
   }
@@ -60,27 +60,27 @@ TEST(TorusBezier, QuarterParametersAndAnglesInvert) {
 }
 
 TEST(TorusNurbs, AgreesWithBezierAndTheImplicitEquation) {
-  const NurbsSurface nurbs = torusNurbs(kTorus);
+  const NurbsSurface nurbs = torusNurbs(kTestTorus);
   std::mt19937_64 rng(2);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int i = 0; i < 20000; ++i) {
     // A random Bézier parameter in a random quarter, mapped through the angles to the NURBS one.
     const int quarter = static_cast<int>(rng() % 4);
     const double u = unit(rng), v = unit(rng);
-    const Eigen::Vector3d x = torusQuarterPatch(kTorus, quarter).evaluate(u, v).position;
-    const double a = std::atan2(x.z(), std::hypot(x.x(), x.y()) - kTorus.R);
+    const Eigen::Vector3d x = torusQuarterPatch(kTestTorus, quarter).evaluate(u, v).position;
+    const double a = std::atan2(x.z(), std::hypot(x.x(), x.y()) - kTestTorus.R);
     const double b = std::atan2(x.y(), x.x());
     const Eigen::Vector2d uv = torusNurbsParameter(a, b);
     const SurfacePoint n = nurbs.evaluate(uv.x(), uv.y());
-    ASSERT_LE((n.position - x).norm(), 1e-12 * kTorus.R) << quarter << " " << u << " " << v;
-    ASSERT_LE(std::abs(torusImplicit(kTorus, n.position)), 1e-12 * kTorus.R * kTorus.R);
+    ASSERT_LE((n.position - x).norm(), 1e-12 * kTestTorus.R) << quarter << " " << u << " " << v;
+    ASSERT_LE(std::abs(torusImplicit(kTestTorus, n.position)), 1e-12 * kTestTorus.R * kTestTorus.R);
     // u runs around the tube and v around the axis, like α and β: Su × Sv points inward.
     ASSERT_NEAR(n.normal.dot(torusNormal(a, b)), -1.0, 1e-12);
   }
 }
 
 TEST(TorusNurbs, WeightsAreOneRootHalfAndHalf) {
-  const NurbsSurface nurbs = torusNurbs(kTorus);
+  const NurbsSurface nurbs = torusNurbs(kTestTorus);
   EXPECT_EQ(nurbs.countU(), 9);
   EXPECT_EQ(nurbs.degreeU(), 2);
   EXPECT_EQ(nurbs.knotsV(),
@@ -115,7 +115,7 @@ TEST(Nurbs, ClampedWithoutInnerKnotsEqualsTheRationalBezierPatch) {
 }
 
 TEST(Nurbs, DerivativesMatchFiniteDifferences) {
-  const NurbsSurface nurbs = torusNurbs(kTorus);
+  const NurbsSurface nurbs = torusNurbs(kTestTorus);
   const double h = 1e-6;
   for (double u : {0.1, 0.3, 0.55, 0.9})
     for (double v : {0.05, 0.4, 0.6, 0.8}) {
@@ -143,7 +143,7 @@ TEST(Nurbs, InvalidInputThrows) {
                InvalidParameterError);  // not clamped
   const NurbsSurface s(1, 1, k, k, 2, 2, p, w);
   EXPECT_THROW(s.evaluate(1.5, 0.5), InvalidParameterError);
-  EXPECT_THROW(torusQuarterPatch(kTorus, 0).evaluate(-0.1, 0.5), InvalidParameterError);
+  EXPECT_THROW(torusQuarterPatch(kTestTorus, 0).evaluate(-0.1, 0.5), InvalidParameterError);
   EXPECT_THROW(torusQuarterPatch(TorusShape{1.0, 1.0}, 0), InvalidParameterError);
   EXPECT_THROW(torusQuarterPatch(TorusShape{1.0, -0.1}, 0), InvalidParameterError);
 }
