@@ -481,7 +481,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       tile_config.output.cloud.clear();
       tile_config.tiling.size = 0.0;
       tile_config.settings.threads = tile_threads;
-      dynamic_cast<JoinedAcrossTiles&>(*tile_config.stages.back().stage).dropPicture();
+      dynamic_cast<JoinedAcrossTiles&>(*tile_config.stages.back().stage).forTile();
       for (const TileSampling& sampling : samplings) {
         auto& stage = dynamic_cast<SampledAnalysis&>(*tile_config.stages[sampling.stage].stage);
         stage.setSampling(sampling.forTile(stage.sampling(), tile.points, manifest.points));
@@ -522,7 +522,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       OutputFiles outputs(config.output.dir);
       outputs.protect(config.input.path);
       const std::optional<RenderRequest> render = joined.picture();
-      const MergeSummary s = mergeTiles(manifest, tiles_dir, runs_dir, segments_name, report_name,
+      const MergeSummary s = mergeTiles(manifest, tiles_dir, runs_dir, files,
                                         render ? &*render : nullptr, threads, outputs);
       written = outputs.commit();
       progress.end();

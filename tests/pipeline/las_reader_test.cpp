@@ -6,6 +6,7 @@
 #include "run_cli.h"
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/pipeline/errors.h"
+#include "tiling/segments_las.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -410,28 +411,32 @@ std::vector<LasPoint> scenePoints(int format) {
   return pts;
 }
 
-// Issue 38's round trip: a LAS 1.4 file of record format 6 and a LAS 1.2 file of format 1 (UTM
-// coordinates) run through the demo pipeline with segments.las: the output is LAS 1.4 of the
-// input's record format and grid, and every field of every point reads back equal (coordinates
-// to the bit: the same integers on the same grid), with label and primitive as extra bytes equal
-// to segments.ply's.
+// Issue 38's round trip: a LAS 1.4 file of record format 6 or 7 and a LAS 1.2 file of format 1
+// (UTM coordinates) run through the demo pipeline with segments.las, untiled and cut into tiles:
+// the output is LAS 1.4 of the input's record format and grid, and every field of every point,
+// in the input's order, reads back equal (coordinates to the bit: the same integers on the same
+// grid), with label and primitive as extra bytes equal to segments.ply's.
 TEST(LasReader, SegmentsLasKeepsEveryInputFieldAndAddsTheLabels) {
   struct Case {
     int minor, format;
     double offset[3];
+    bool tiled;
   };
-  for (const Case& c : {Case{4, 6, {0, 0, 0}}, Case{2, 1, {500000.0, 5400000.0, 100.0}}}) {
+  for (const Case& c :
+       {Case{4, 6, {0, 0, 0}, false}, Case{2, 1, {500000.0, 5400000.0, 100.0}, false},
+        Case{4, 7, {0, 0, 0}, true}, Case{2, 1, {500000.0, 5400000.0, 100.0}, true}}) {
     const double scale[3] = {1e-4, 1e-4, 1e-4};
-    const std::string name = "roundtrip" + std::to_string(c.format);
+    const std::string name =
+        std::string(c.tiled ? "tiled" : "roundtrip") + std::to_string(c.format);
     const std::string input = writeFile(
         name + ".las", lasFile(c.minor, c.format, scenePoints(c.format), scale, c.offset));
     const std::string out = scratchDir("las_" + name);
-    const CliResult r =
-        runSlipfit("run configs/demo.yaml --quiet --set input.path=" + input +
-                   " --set 'segments.render=\"\"' --set segments.las=segments.las --set "
-                   "segments.local_copy=local.ply"
-                   " --set output.dir=" +
-                   out);
+    // A tiled run writes no local copy (its files are not joined across tiles).
+    const CliResult r = runSlipfit("run configs/demo.yaml --quiet --set input.path=" + input +
+                                   " --set 'segments.render=\"\"' --set segments.las=segments.las" +
+                                   (c.tiled ? " --set tiling.size=2 --set tiling.buffer=0.5"
+                                            : " --set segments.local_copy=local.ply") +
+                                   " --set output.dir=" + out);
     ASSERT_EQ(r.code, 0) << r.err;
     const std::string las = slurp(out + "/segments.las");
     ASSERT_GT(las.size(), 375u);
@@ -451,11 +456,13 @@ TEST(LasReader, SegmentsLasKeepsEveryInputFieldAndAddsTheLabels) {
       EXPECT_EQ(a.numericField(f.name), b.numericField(f.name)) << f.name;
       ++fields;
     }
-    EXPECT_EQ(fields, c.format == 1 ? 11u : 12u);  // readLas's fields of the format
+    EXPECT_EQ(fields, c.format == 1 ? 11u : c.format == 6 ? 12u : 15u);  // readLas's fields
     const pipeline::PointData ply =
         pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
     EXPECT_EQ(b.numericField("label"), ply.numericField("label"));
     EXPECT_EQ(b.numericField("primitive"), ply.numericField("primitive"));
+    if (c.tiled)
+      continue;
     // The float copy in the local frame: the same rows, coordinates less the global shift that
     // primitives.yaml gives, as float (to half a float step at the local magnitude, < 4 m here).
     const YAML::Node report = YAML::LoadFile(out + "/primitives.yaml");
@@ -476,6 +483,69 @@ TEST(LasReader, SegmentsLasKeepsEveryInputFieldAndAddsTheLabels) {
             << i;
     const std::vector<double> labels = b.numericField("label");
     EXPECT_GE(*std::max_element(labels.begin(), labels.end()), 4.0);  // ground, box, ball, ...
+  }
+}
+
+// A tiled run writes segments.las from its merged segments.ply (tiling/segments_las.h): the rows
+// of a cloud written as segmentation writes segments.ply (the input's colours as input_red and
+// the like, the segment colours, normals, label and primitive) give the very bytes the untiled
+// writer gives for the cloud itself: on a LAS input's grid and record format (format 7, colours),
+// and on the power-of-ten grid of another input (georeferenced coordinates, a pass for the bounds).
+TEST(LasWriter, AMergedSegmentsPlyGivesTheBytesOfTheCloudsOwnLas) {
+  for (const bool las_input : {true, false}) {
+    const double scale[3] = {1e-3, 1e-3, 1e-3}, offset[3] = {500000.0, 5400000.0, 100.0};
+    std::vector<LasPoint> pts = threePoints();
+    for (int k = 0; k < 200; ++k)  // more than one row of each kind, spread over metres
+      pts.push_back({k * 37,
+                     -k * 53,
+                     k * 11,
+                     static_cast<std::uint16_t>(k),
+                     1,
+                     1,
+                     k % 32,
+                     k % 4,
+                     k % 4,
+                     k % 2,
+                     0,
+                     k % 90,
+                     k % 256,
+                     static_cast<std::uint16_t>(k),
+                     0.5 * k,
+                     {static_cast<std::uint16_t>(257 * k), 1, 2}});
+    const std::string input = writeFile(las_input ? "merged7.las" : "merged7_other.las",
+                                        lasFile(4, 7, pts, scale, offset));
+    pipeline::PointData data = pipeline::readCloud(input, pipeline::NanPolicy::error);
+    if (!las_input) {  // as if the input had been another format: the writer picks the grid
+      data.frame.las_format = -1;
+      data.frame.grid_scale.setZero();
+      data.frame.grid_offset.setZero();
+    }
+    addLabels(data);
+    std::vector<std::uint8_t> red, green, blue;
+    for (std::size_t i = 0; i < data.size(); ++i) {
+      red.push_back(static_cast<std::uint8_t>(i));
+      green.push_back(static_cast<std::uint8_t>(3 * i));
+      blue.push_back(7);
+    }
+    data.setField({"red", red});
+    data.setField({"green", green});
+    data.setField({"blue", blue});
+    data.has_normals = true;
+    const std::string dir = scratchDir(las_input ? "merged_las" : "merged_other");
+    pipeline::writeCloudPly(data, dir + "_segments.ply", true);
+    ASSERT_THAT(slurp(dir + "_segments.ply"), HasSubstr("property ushort input_red\n"));
+    pipeline::las::writeLas(data, dir + "_own.las", {"label", "primitive"});
+    pipeline::tiling::writeSegmentsLas(
+        dir + "_segments.ply", las_input ? input : dir + "_segments.ply", dir + "_merged.las");
+    const std::string own = slurp(dir + "_own.las");
+    ASSERT_GT(own.size(), 375u + 203u * 36u);
+    EXPECT_TRUE(own == slurp(dir + "_merged.las")) << (las_input ? "LAS input" : "other input");
+    const pipeline::PointData back =
+        pipeline::readCloud(dir + "_merged.las", pipeline::NanPolicy::error);
+    // The record's colour is the input's (the segment colours are not written to LAS).
+    EXPECT_EQ(back.numericField("red"),
+              pipeline::readCloud(input, pipeline::NanPolicy::error).numericField("red"));
+    EXPECT_EQ(back.numericField("label"), data.numericField("label"));
   }
 }
 

@@ -225,8 +225,8 @@ TEST(PclInterop, ACloudIsWrittenAsPlyOrPcdOnly) {
 }
 
 TEST(PclInterop, ATiledRunRefusesOutputsItDoesNotJoin) {
-  for (const char* option : {"segments.pcd=s.pcd", "segments.las=s.las",
-                             "segments.local_copy=l.ply", "segments.segment_files=true"}) {
+  for (const char* option :
+       {"segments.pcd=s.pcd", "segments.local_copy=l.ply", "segments.segment_files=true"}) {
     const CliResult r =
         runSlipfit(std::string("validate configs/demo.yaml --set tiling.size=1 --set ") + option);
     EXPECT_EQ(r.code, 2) << option;

@@ -90,11 +90,10 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
     return names;
   }
 
-  Files joinedFiles() const override { return {report_, segments_}; }
+  Files joinedFiles() const override { return {report_, segments_, las_}; }
   std::string unjoinedOutput() const override {
     return segment_files_         ? "segment_files"
            : !pcd_.empty()        ? "pcd"
-           : !las_.empty()        ? "las"
            : !local_copy_.empty() ? "local_copy"
                                   : "";
   }
@@ -106,7 +105,10 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
       return std::nullopt;
     return RenderRequest{render_, render_parameters_};
   }
-  void dropPicture() override { render_.clear(); }
+  void forTile() override {
+    render_.clear();
+    las_.clear();
+  }
 
   void run(PointData& data, RunContext& context) override {
     const std::vector<SlippageType>* local = data.localSlippage();

@@ -2,6 +2,7 @@
 
 #include "../png_file.h"
 #include "ply_rows.h"
+#include "segments_las.h"
 #include "tile_job.h"
 #include "worker_pool.h"
 
@@ -289,9 +290,10 @@ std::map<std::int32_t, Primitive> readTileFits(const std::string& path,
 }  // namespace
 
 MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
-                        const std::string& runs_dir, const std::string& segments_name,
-                        const std::string& report_name, const RenderRequest* render, int workers,
-                        OutputFiles& outputs) {
+                        const std::string& runs_dir, const JoinedAcrossTiles::Files& files,
+                        const RenderRequest* render, int workers, OutputFiles& outputs) {
+  const std::string& segments_name = files.segments;
+  const std::string& report_name = files.report;
   const std::size_t tiles = m.tiles.size();
   const auto dirOf = [&](std::size_t t) { return runs_dir + "/" + m.tiles[t].name(); };
   // The tiles by the grid tile they lie in: a tile's buffer reaches only into the grid tiles
@@ -463,7 +465,9 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
   const std::uint64_t every =
       std::max<std::uint64_t>(1, (total + kRenderedPoints - 1) / kRenderedPoints);
   std::vector<TileRows> written(tiles);
+  std::string merged;  // the temporary path of segments.ply until the outputs are committed
   outputs.add(segments_name, [&](const std::string& path) {
+    merged = path;
     const std::vector<StreamField> fields = withoutFields(
         CloudStream(dirOf(0) + "/" + segments_name).fields(), {"tile_row", "tile_core"});
     const std::string header = plyHeader(fields, total);
@@ -485,6 +489,9 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
     });
     file.close();
   });
+  if (!files.las.empty())
+    outputs.add(files.las,
+                [&](const std::string& path) { writeSegmentsLas(merged, m.input, path); });
   std::vector<float> picture_points, picture_normals;
   std::vector<std::uint8_t> picture_colours;
   for (const TileRows& w : written) {

@@ -39,13 +39,12 @@ FitResult refitJoined(PrimitiveType type, const Eigen::Ref<const Eigen::Matrix3X
                       const std::optional<Primitive>& start);
 
 /// Merges the finished runs of \a manifest's tiles (their files in \a tiles_dir) in \a runs_dir
-/// (one directory per tile) into
-/// \a segments_name and \a report_name, and the picture when \a render is given, added to
-/// \a outputs (committed by the caller). Up to \a workers tiles are read and written at a time;
-/// the outputs do not depend on it.
+/// (one directory per tile) into \a files (the report, segments.ply and, when named,
+/// segments.las: written from the merged segments.ply's rows, segmentsLas), and the picture when
+/// \a render is given, added to \a outputs (committed by the caller). Up to \a workers tiles are
+/// read and written at a time; the outputs do not depend on it.
 MergeSummary mergeTiles(const TilingManifest& manifest, const std::string& tiles_dir,
-                        const std::string& runs_dir, const std::string& segments_name,
-                        const std::string& report_name, const RenderRequest* render, int workers,
-                        OutputFiles& outputs);
+                        const std::string& runs_dir, const JoinedAcrossTiles::Files& files,
+                        const RenderRequest* render, int workers, OutputFiles& outputs);
 
 }  // namespace slipfit::pipeline::tiling

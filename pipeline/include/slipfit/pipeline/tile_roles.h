@@ -27,12 +27,14 @@ class JoinedAcrossTiles {
   struct Files {
     std::string report;    ///< primitives.yaml: one entry per segment
     std::string segments;  ///< segments.ply: every point with its label
+    std::string las;       ///< segments.las, the same points as LAS; empty when not asked for
   };
   virtual Files joinedFiles() const = 0;
   /// Its picture as configured; nullopt when it draws none.
   virtual std::optional<RenderRequest> picture() const = 0;
-  /// Leaves the picture out: a tile's picture is not the run's.
-  virtual void dropPicture() = 0;
+  /// Leaves out what the merge writes for the whole cloud from its joined files (the picture,
+  /// segments.las): a tile's are not the run's.
+  virtual void forTile() = 0;
   /// The option of an output it is asked for that a tiled run does not join (a tiled run refuses
   /// the config); empty when there is none.
   virtual std::string unjoinedOutput() const = 0;
