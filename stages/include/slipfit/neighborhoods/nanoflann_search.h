@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <string>
@@ -109,24 +110,30 @@ class NanoflannSearch : public pcl::search::Search<PointT> {
     nanoflann::SearchParams params;
     params.sorted = false;
     tree_->radiusSearch(query, static_cast<float>(radius * radius), found, params);
-    // The tree's rows follow the cloud's order: ordering rows orders cloud indices.
-    const auto nearer = [](const std::pair<std::uint32_t, float>& a,
-                           const std::pair<std::uint32_t, float>& b) {
-      return a.second < b.second || (a.second == b.second && a.first < b.first);
-    };
-    if (max_nn > 0 && found.size() > max_nn) {
-      std::partial_sort(found.begin(), found.begin() + max_nn, found.end(), nearer);
-      found.resize(max_nn);
-    } else {
-      std::sort(found.begin(), found.end(), nearer);
-    }
-    k_indices.resize(found.size());
-    k_sqr_distances.resize(found.size());
+    // By distance, ties by row; the tree's rows follow the cloud's order, so ordering rows orders
+    // cloud indices. One integer per result: a distance is a non-negative float, whose bits order
+    // as its values do, above the row (a sort of 64-bit keys, not of pairs by a comparison).
+    thread_local std::vector<std::uint64_t> keys;
+    keys.resize(found.size());
     for (std::size_t j = 0; j < found.size(); ++j) {
-      k_indices[j] = rows_[found[j].first];
-      k_sqr_distances[j] = found[j].second;
+      std::uint32_t bits;
+      std::memcpy(&bits, &found[j].second, sizeof bits);
+      keys[j] = std::uint64_t{bits} << 32 | found[j].first;
     }
-    return static_cast<int>(found.size());
+    if (max_nn > 0 && keys.size() > max_nn) {
+      std::partial_sort(keys.begin(), keys.begin() + max_nn, keys.end());
+      keys.resize(max_nn);
+    } else {
+      std::sort(keys.begin(), keys.end());
+    }
+    k_indices.resize(keys.size());
+    k_sqr_distances.resize(keys.size());
+    for (std::size_t j = 0; j < keys.size(); ++j) {
+      const auto bits = static_cast<std::uint32_t>(keys[j] >> 32);
+      std::memcpy(&k_sqr_distances[j], &bits, sizeof bits);
+      k_indices[j] = rows_[static_cast<std::uint32_t>(keys[j])];
+    }
+    return static_cast<int>(keys.size());
   }
 
  private:

@@ -317,6 +317,16 @@ void NeighborhoodSelection<PointT>::searchInCloudOrder(const std::vector<char>& 
       throw InvalidParameterError(
           detail::radiusTooLarge(*par.radius, radius_cap, indices_->size()));
     }
+    // Widened or radius lists have no size known in advance: room for the whole cloud at the
+    // mean size so far (and a twentieth more), so that the lists are moved about once, not at
+    // every doubling of the vectors.
+    std::size_t entries = output.entries();
+    for (std::size_t i = begin; i < end; ++i)
+      entries += chunk_indices[i - begin].size();
+    if (end < n)
+      output.reserve(n, entries + static_cast<std::size_t>(1.05 * static_cast<double>(entries) /
+                                                           static_cast<double>(end) *
+                                                           static_cast<double>(n - end)));
     for (std::size_t i = begin; i < end; ++i)
       output.append(chunk_indices[i - begin].data(), chunk_dists[i - begin].data(),
                     chunk_indices[i - begin].size());
