@@ -1,5 +1,7 @@
 #include "slipfit/pipeline/runner.h"
 
+#include "null_buffer.h"
+
 #include "slipfit/pipeline/errors.h"
 #include "slipfit/pipeline/output_files.h"
 #include "slipfit/pipeline/progress.h"
@@ -95,11 +97,6 @@ void reportStep(std::ostream& report, const std::string& name,
 }  // namespace
 
 namespace {
-/// Swallows everything (for --quiet).
-class NullBuffer : public std::streambuf {
- protected:
-  int overflow(int c) override { return c; }
-};
 /// Points whose given normal is missing (NaN, inf or zero in the file): when no stage reads the
 /// given normals before one estimates them, they keep their place (the estimate replaces the
 /// missing normal); when a stage reads them, input.nan decides — skip drops those points (the
@@ -132,7 +129,7 @@ std::size_t settleMissingNormals(const PipelineConfig& config, const ReadReport&
 std::vector<std::string> runPipeline(PipelineConfig& config, const RunOptions& options,
                                      std::ostream& report_stream) {
   checkConfigFiles(config);  // nothing runs when an output would replace the input
-  NullBuffer null_buffer;
+  detail::NullBuffer null_buffer;
   std::ostream null_stream(&null_buffer);
   std::ostream& report = options.quiet ? null_stream : report_stream;
   for (const std::string& done : removeLeftovers(config.output.dir, config.input.path))

@@ -15,6 +15,7 @@
 #include "tiling/work_distribution.h"
 
 #include "digest.h"
+#include "null_buffer.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -38,11 +39,6 @@ namespace fs = std::filesystem;
 using namespace tiling;
 
 namespace {
-
-class NullBuffer : public std::streambuf {
- protected:
-  int overflow(int c) override { return c; }
-};
 
 std::string readText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -312,7 +308,7 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   JoinedAcrossTiles& joined = joinedStage(config);
   checkConfigFiles(config);
   WorkDistribution work;  // one process, or the ranks of mpirun
-  NullBuffer null_buffer;
+  detail::NullBuffer null_buffer;
   std::ostream null_stream(&null_buffer);
   std::ostream& report = options.quiet || !work.leader() ? null_stream : report_stream;
   Progress progress(!options.quiet && work.leader());
