@@ -5,8 +5,7 @@
 #include "ply_rows.h"
 
 #include "slipfit/pipeline/cloud_stream.h"
-
-#include <Eigen/Core>
+#include "slipfit/pipeline/errors.h"
 
 #include <fstream>
 #include <set>
@@ -40,15 +39,20 @@ class PlyRows : public las::LasRows {
       fields_.push_back({name, f.scalar, stage});
       at_.push_back(fieldAt(f));
     }
+    for (int a = 0; a < 3; ++a) {
+      const StreamField* f = findField(in_.fields(), std::string(1, "xyz"[a]));
+      if (!f)
+        throw RunError("'" + ply + "': no " + "xyz"[a] + " coordinate");
+      xyz_[a] = fieldAt(*f);
+    }
   }
   std::uint64_t size() const override { return in_.size(); }
   const std::vector<las::LasField>& fields() const override { return fields_; }
   void load(std::uint64_t first, std::uint64_t count) override {
-    in_.readRecords(first, count, rows_);
-    in_.read(first, count, xyz_);
+    in_.readRecords(first, count, rows_);  // one read: the coordinates are in the rows
   }
   double coordinate(std::uint64_t k, int axis) const override {
-    return xyz_(axis, static_cast<Eigen::Index>(k));
+    return xyz_[axis].get(rows_.data() + k * in_.recordBytes());
   }
   double value(std::size_t field, std::uint64_t k) const override {
     return at_[field].get(rows_.data() + k * in_.recordBytes());
@@ -59,7 +63,7 @@ class PlyRows : public las::LasRows {
   std::vector<las::LasField> fields_;
   std::vector<FieldAt> at_;
   std::vector<char> rows_;
-  Eigen::Matrix3Xd xyz_;
+  FieldAt xyz_[3];
 };
 
 /// Whether the file at \a path starts as a LAS file does.
