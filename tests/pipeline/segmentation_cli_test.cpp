@@ -118,6 +118,39 @@ TEST(SegmentationCli, SubsampleAtVoxelMeansOrFirstPointsCarriesBackEveryPoint) {
   EXPECT_TRUE(outputs[0] == outputs[1]) << "1 and 2 threads differ";
 }
 
+// A depth frame analysed on a subsample (a simulated 640 × 480 Kinect-like frame of the tabletop,
+// seed 7, sample.points = 100000: about one return in three). Its depth is recorded on levels, so
+// each voxel's analysis point is its first return, not its mean, which would lie on flat slices
+// of the levels: before, every segment was a plane of RMS 0 and the frame scored mean IoU 0.037.
+// The carry-back then takes each return within the segmentation's tolerance at it, the local
+// step included (without the step, 10 % of the returns stayed unassigned: IoU 0.800). Measured
+// mean IoU 0.8138 (the whole frame analysed: 0.834) and 99.996 % of the returns assigned,
+// asserted at 0.81 and 99.99 %.
+TEST(SegmentationCli, ASubsampledDepthFrameKeepsItsLevels) {
+  const std::string scan = scratchDir("subsampled_frame_scan");
+  CliResult r =
+      runSlipfit("run configs/sample_scan.yaml --quiet --set seed=7 --set output.dir=" + scan +
+                 " --set output.cloud=cloud.pcd");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string out = scratchDir("subsampled_frame");
+  r = runSlipfit("run configs/demo.yaml --set input.path=" + scan +
+                 "/cloud.pcd --set sample.points=100000 --set 'segments.render=\"\"' "
+                 "--set output.dir=" +
+                 out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("at each voxel's first point: coordinate z is recorded on levels"));
+  EXPECT_THAT(r.out, HasSubstr("segmentation: coordinate z is recorded on levels"));
+  const auto cloud = pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
+  const std::vector<std::int32_t> label = intField(cloud, "label");
+  const SegmentationScore score = scoreSegmentation(intField(cloud, "truth_label"), label);
+  const auto assigned = static_cast<double>(
+      std::count_if(label.begin(), label.end(), [](std::int32_t l) { return l >= 0; }));
+  std::cout << "subsampled frame: mean IoU " << score.mean_iou << ", "
+            << assigned / static_cast<double>(label.size()) << " of the returns assigned\n";
+  EXPECT_GE(score.mean_iou, 0.81);
+  EXPECT_GE(assigned, 0.9999 * static_cast<double>(label.size()));
+}
+
 // Every step reports its time and its own peak memory per input point; the analysis fields
 // (slippage, neighborhood sizes) are carried back to every point only when something reads
 // them: here output.cloud asks for the all-fields cloud, and the labels must agree with

@@ -47,7 +47,14 @@ class SubsampleStage : public Stage, public SampledAnalysis {
     data.keepOnly(keep);
     data.pixels.clear();  // the analysis points stand for voxels, not pixels
     std::string placed;
-    if (p_.mode == SubsampleMode::voxel && p_.position == SubsamplePosition::mean) {
+    const VoxelPlacement placement = p_.mode == SubsampleMode::voxel
+                                         ? voxelPlacement(x, p_.position)
+                                         : VoxelPlacement{SubsamplePosition::first, -1};
+    if (placement.levels_axis >= 0)
+      placed = std::string(", at each voxel's first point: coordinate ") +
+               "xyz"[placement.levels_axis] +
+               " is recorded on levels, which the mean of a voxel's points would leave";
+    if (placement.position == SubsamplePosition::mean) {
       RepresentedMean mean = representedMean(x, s);
       std::size_t averaged = 0;
       for (std::size_t k = 0; k < s.kept.size(); ++k) {

@@ -1,6 +1,7 @@
 #include "slipfit/filters/subsampling.h"
 
 #include "slipfit/core/exceptions.h"
+#include "slipfit/neighborhoods/depth_quantization.h"
 
 #include <Eigen/Geometry>
 
@@ -232,6 +233,21 @@ Subsample subsample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, const Subs
     return randomSample(points, p.points, seed);
   return p.leaf ? voxelSample(points, *p.leaf, p.origin)
                 : voxelSampleTo(points, p.points, p.origin);
+}
+
+VoxelPlacement voxelPlacement(const Eigen::Ref<const Eigen::Matrix3Xf>& points,
+                              SubsamplePosition requested) {
+  VoxelPlacement placement{requested, -1};
+  if (requested == SubsamplePosition::first)
+    return placement;
+  // A disparity sensor's levels lie c z² apart, their step growing with depth; levels of one
+  // step are a grid (an airborne scanner's scan lines, 7 cm apart along x in the simulated
+  // ones), which the means leave without harm: they are where the points are, not a rounding.
+  constexpr double kVaryingStep = 1.01;  // rounding moves a grid's steps by about 1e-5
+  const QuantizedAxis levels = detectQuantizedAxis(points.cast<double>());
+  if (levels.detected() && levels.maxStep() > kVaryingStep * levels.minStep())
+    placement = {SubsamplePosition::first, levels.axis};
+  return placement;
 }
 
 }  // namespace slipfit

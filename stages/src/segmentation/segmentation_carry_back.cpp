@@ -147,19 +147,22 @@ void carrySegmentationBack(
       };
       for (std::size_t m = 0; m < count; ++m) {
         const double* d = &signed_distance[m * k];
+        // The segmentation's own tolerance at the point: on depth recorded on levels, the
+        // distance plus the local step (a far return of a subsampled depth frame is a step off
+        // its surface as often as its representative is).
+        const Eigen::Vector3d p = points.col(order[first + m]).cast<double>();
+        const double tolerance = result.tolerance(p);
         std::size_t best = k;
         for (std::size_t c = 0; c < k; ++c)
-          if (std::abs(d[c]) <= result.distance &&
-              (best == k || std::abs(d[c]) < std::abs(d[best])))
+          if (std::abs(d[c]) <= tolerance && (best == k || std::abs(d[c]) < std::abs(d[best])))
             best = c;
         if (best == k)
           continue;
         std::size_t choice = best;
-        const Eigen::Vector3d p = points.col(order[first + m]).cast<double>();
         const Eigen::Vector3d normal = surfaceNormal(
             p, result.segments[static_cast<std::size_t>(candidates[best])].fit.refined);
         for (std::size_t c = 0; c < k; ++c)
-          if (c != best && std::abs(d[c]) <= result.distance &&
+          if (c != best && std::abs(d[c]) <= tolerance &&
               std::abs(d[c]) <= std::abs(d[best]) + margin &&
               std::abs(normal.dot(surfaceNormal(
                   p, result.segments[static_cast<std::size_t>(candidates[c])].fit.refined))) >=

@@ -1,8 +1,11 @@
 // The pieces around segmentation: surface normals of the primitives, the labelled scene sampler,
 // subsampling with representatives, and the splat renderer.
+#include "kinect_plane.h"
+
 #include "slipfit/core/exceptions.h"
 #include "slipfit/filters/subsampling.h"
 #include "slipfit/fitting/primitives.h"
+#include "slipfit/neighborhoods/depth_quantization.h"
 #include "slipfit/render/splat_renderer.h"
 #include "slipfit/sampling/random_vector.h"
 #include "slipfit/sampling/scene_sampler.h"
@@ -190,6 +193,45 @@ TEST(Subsampling, VoxelMeansOfADenseNoisyPlaneLieCloserToItThanItsPoints) {
             << " sigma\n";
   EXPECT_LT(median, 0.28 * sigma);
   EXPECT_LT(rms, 0.87 * sigma);
+}
+
+// Depth recorded on levels (a Kinect-like plane, kinect_plane.h) is placed at each voxel's first
+// point whatever was asked, and says which coordinate made it so: a voxel's mean would leave the
+// levels. The same plane with continuous depth, or with a grid of one step, and first asked for,
+// keep what was asked.
+TEST(Subsampling, DepthOnLevelsIsPlacedAtFirstPointsNotAtMeans) {
+  const Eigen::Matrix3Xf levels = testing::kinectPlane(0.001, true, 1).cast<float>();
+  const VoxelPlacement on_levels = voxelPlacement(levels, SubsamplePosition::mean);
+  EXPECT_EQ(on_levels.position, SubsamplePosition::first);
+  EXPECT_EQ(on_levels.levels_axis, 2);
+  const Eigen::Matrix3Xf continuous = testing::kinectPlane(0.001, false, 2).cast<float>();
+  const VoxelPlacement smooth = voxelPlacement(continuous, SubsamplePosition::mean);
+  EXPECT_EQ(smooth.position, SubsamplePosition::mean);
+  EXPECT_EQ(smooth.levels_axis, -1);
+  EXPECT_EQ(voxelPlacement(continuous, SubsamplePosition::first).position,
+            SubsamplePosition::first);
+  // Levels of one step are a grid, not a disparity sensor's (an airborne scanner's scan lines):
+  // the same plane with x on a 1 cm lattice is detected as one, and keeps the means.
+  Eigen::Matrix3Xf grid = continuous;
+  for (Eigen::Index i = 0; i < grid.cols(); ++i)
+    grid(0, i) = 0.01f * std::round(grid(0, i) / 0.01f);
+  ASSERT_EQ(detectQuantizedAxis(grid.cast<double>()).axis, 0);
+  EXPECT_EQ(voxelPlacement(grid, SubsamplePosition::mean).position, SubsamplePosition::mean);
+  // Why: the means of a voxel's returns on levels lie off every level — most of them, on this
+  // plane at voxels of 2 cm (several levels a voxel), where no return lies.
+  const Subsample s = voxelSample(levels, 0.02);
+  const RepresentedMean mean = representedMean(levels, s);
+  std::vector<float> z(levels.row(2).data(), levels.row(2).data() + levels.cols());
+  std::sort(z.begin(), z.end());
+  std::size_t off = 0;
+  for (Eigen::Index k = 0; k < mean.mean.cols(); ++k) {
+    const float m = mean.mean(2, k);
+    const auto at = std::lower_bound(z.begin(), z.end(), m);
+    const bool on = (at != z.end() && std::abs(*at - m) < 1e-5f) ||
+                    (at != z.begin() && std::abs(*(at - 1) - m) < 1e-5f);
+    off += on ? 0 : 1;
+  }
+  EXPECT_GT(off, static_cast<std::size_t>(mean.mean.cols()) / 2);
 }
 
 /// A 64 × 48 picture from (0, 0, 10) looking down at the origin, y up, splats of 3 pixels.

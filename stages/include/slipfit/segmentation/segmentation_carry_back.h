@@ -2,7 +2,8 @@
 /// \file From a segmentation of an analysis sample to a label for every input point (docs/
 /// THEORY.md §6, "Large scans"): each input point takes, among the segments of its representative
 /// (a kept point of the sample) and of the representative's neighbors, the one whose primitive is
-/// nearest, when within the segmentation's distance tolerance; otherwise −1. Where another is as
+/// nearest, when within the segmentation's tolerance at the point (SegmentationResult::tolerance:
+/// the local step added on depth recorded on levels); otherwise −1. Where another is as
 /// near within 2σ̂ and the two primitives' normals at the point are within the segmentation's
 /// angle tolerance (a tangent junction, where one point's distances differ by r θ²/2 and cannot
 /// choose), the one with the smaller mean signed distance over the input points of the
