@@ -10,6 +10,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -149,6 +150,40 @@ TEST(SegmentationCli, ASubsampledDepthFrameKeepsItsLevels) {
             << assigned / static_cast<double>(label.size()) << " of the returns assigned\n";
   EXPECT_GE(score.mean_iou, 0.81);
   EXPECT_GE(assigned, 0.9999 * static_cast<double>(label.size()));
+}
+
+// A depth frame registered into another frame (a 320 × 240 simulated tabletop frame, seed 7,
+// turned 30°, 20° and 10° about x, y and z and moved, written as a PLY of floats): its levels lie
+// across the camera's axis, not along a coordinate, and are found there. Before, the slices of
+// the levels were read as surfaces: mean IoU 0.203 in 324 segments. Measured now 0.802 in 21
+// (the frame unturned: 0.867), asserted ≥ 0.80.
+TEST(SegmentationCli, ARegisteredDepthFramesLevelsAreFoundAcrossItsCamerasAxis) {
+  const std::string scan = scratchDir("registered_frame_scan");
+  CliResult r = runSlipfit(
+      "run configs/sample_scan.yaml --quiet --set seed=7 --set scan.width=320 "
+      "--set scan.height=240 --set output.dir=" +
+      scan);
+  ASSERT_EQ(r.code, 0) << r.err;
+  pipeline::PointData frame = pipeline::readCloud(scan + "/cloud.ply", pipeline::NanPolicy::error);
+  const Eigen::Matrix3f turn =
+      (Eigen::AngleAxisf(30.0f * static_cast<float>(M_PI) / 180.0f, Eigen::Vector3f::UnitX()) *
+       Eigen::AngleAxisf(20.0f * static_cast<float>(M_PI) / 180.0f, Eigen::Vector3f::UnitY()) *
+       Eigen::AngleAxisf(10.0f * static_cast<float>(M_PI) / 180.0f, Eigen::Vector3f::UnitZ()))
+          .toRotationMatrix();
+  for (auto& p : *frame.cloud)
+    p.getVector3fMap() = turn * p.getVector3fMap() + Eigen::Vector3f(0.3f, -0.2f, 1.1f);
+  const std::string turned = scan + "/turned.ply";
+  pipeline::writeCloudPly(frame, turned, true);
+  const std::string out = scratchDir("registered_frame");
+  r = runSlipfit("run configs/demo.yaml --set input.path=" + turned +
+                 " --set 'segments.render=\"\"' --set output.dir=" + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("segmentation: the coordinate along ("));
+  const auto cloud = pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
+  const SegmentationScore score =
+      scoreSegmentation(intField(cloud, "truth_label"), intField(cloud, "label"));
+  std::cout << "registered frame: mean IoU " << score.mean_iou << "\n";
+  EXPECT_GE(score.mean_iou, 0.80);
 }
 
 // Every step reports its time and its own peak memory per input point; the analysis fields

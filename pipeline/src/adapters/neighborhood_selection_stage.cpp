@@ -62,9 +62,8 @@ class NeighborhoodSelectionStage : public Stage {
     else
       context.report << st.tree_builds << " kd-tree build\n";
     if (st.quantized_axis >= 0)
-      context.report << "neighborhoods: coordinate "
-                     << "xyz"[st.quantized_axis] << " is recorded on levels " << st.min_step << ".."
-                     << st.max_step << " apart; " << st.widened
+      context.report << "neighborhoods: " << st.quantized_name << " is recorded on levels "
+                     << st.min_step << ".." << st.max_step << " apart; " << st.widened
                      << " neighborhoods widened to span them\n";
     if (write_fields_) {
       const std::size_t n = data.size();

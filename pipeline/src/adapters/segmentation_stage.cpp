@@ -188,8 +188,7 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
                      << (&t == &result.timings.back() ? "" : ",");
     context.report << std::defaultfloat << std::setprecision(6) << "\n";
     if (result.lattice.detected())
-      context.report << "segmentation: coordinate "
-                     << "xyz"[result.lattice.axis] << " is recorded on levels up to "
+      context.report << "segmentation: " << result.lattice.name() << " is recorded on levels up to "
                      << result.lattice.maxStep()
                      << " apart: each point's tolerance adds its local step\n";
     constexpr std::size_t kListed = 20;

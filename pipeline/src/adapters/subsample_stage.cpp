@@ -49,10 +49,9 @@ class SubsampleStage : public Stage, public SampledAnalysis {
     std::string placed;
     const VoxelPlacement placement = p_.mode == SubsampleMode::voxel
                                          ? voxelPlacement(x, p_.position)
-                                         : VoxelPlacement{SubsamplePosition::first, -1};
+                                         : VoxelPlacement{SubsamplePosition::first, -1, {}};
     if (placement.levels_axis >= 0)
-      placed = std::string(", at each voxel's first point: coordinate ") +
-               "xyz"[placement.levels_axis] +
+      placed = ", at each voxel's first point: " + placement.levels_name +
                " is recorded on levels, which the mean of a voxel's points would leave";
     if (placement.position == SubsamplePosition::mean) {
       RepresentedMean mean = representedMean(x, s);

@@ -237,7 +237,7 @@ Subsample subsample(const Eigen::Ref<const Eigen::Matrix3Xf>& points, const Subs
 
 VoxelPlacement voxelPlacement(const Eigen::Ref<const Eigen::Matrix3Xf>& points,
                               SubsamplePosition requested) {
-  VoxelPlacement placement{requested, -1};
+  VoxelPlacement placement{requested, -1, {}};
   if (requested == SubsamplePosition::first)
     return placement;
   // A disparity sensor's levels lie c z² apart, their step growing with depth; levels of one
@@ -246,7 +246,7 @@ VoxelPlacement voxelPlacement(const Eigen::Ref<const Eigen::Matrix3Xf>& points,
   constexpr double kVaryingStep = 1.01;  // rounding moves a grid's steps by about 1e-5
   const QuantizedAxis levels = detectQuantizedAxis(points.cast<double>());
   if (levels.detected() && levels.maxStep() > kVaryingStep * levels.minStep())
-    placement = {SubsamplePosition::first, levels.axis};
+    placement = {SubsamplePosition::first, levels.axis, levels.name()};
   return placement;
 }
 

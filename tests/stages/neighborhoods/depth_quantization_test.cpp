@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 #include <pcl/point_types.h>
+#include <Eigen/Geometry>
 
 #include <cmath>
 #include <iostream>
@@ -49,6 +50,41 @@ TEST(DepthQuantization, ContinuousNoiseFewFlatFacesAndGridsAreNotALattice) {
     grid.col(i) = Eigen::Vector3d(0.01 * static_cast<double>(i % 100),
                                   0.01 * static_cast<double>(i / 100), u(rng));
   EXPECT_FALSE(detectQuantizedAxis(grid).detected());
+}
+
+// The same depth frame registered into another frame — turned 30°, 20° and 10° about x, y and z,
+// moved, and stored as floats, as a registered frame is: no coordinate axis holds a lattice, and
+// the levels are found across the camera's axis, with their steps. The direction is asserted
+// within 1e-7 rad of the camera's axis (measured 3.0e-8). A continuous plane and a CAD-like
+// plate, turned alike, hold none.
+TEST(DepthQuantization, ARegisteredFramesLevelsAreFoundAcrossTheCamerasAxis) {
+  const Eigen::Matrix3d turn = (Eigen::AngleAxisd(30.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(20.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()) *
+                                Eigen::AngleAxisd(10.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ()))
+                                   .toRotationMatrix();
+  const Eigen::Vector3d shift(0.3, -0.2, 1.1);
+  const auto registered = [&](const Eigen::Matrix3Xd& p) -> Eigen::Matrix3Xd {
+    return ((turn * p).colwise() + shift).cast<float>().cast<double>();
+  };
+  const QuantizedAxis q = detectQuantizedAxis(registered(kinectPlane(0.001, true, 1)));
+  ASSERT_TRUE(q.detected());
+  EXPECT_EQ(q.axis, QuantizedAxis::kAlongDirection);
+  const double off = std::acos(std::min(1.0, std::abs(q.direction.dot(turn.col(2)))));
+  std::cout << "registered frame: levels across a direction " << off << " rad off the camera's\n";
+  EXPECT_LT(off, 1e-7);
+  for (double z : {1.3, 1.5, 1.8}) {
+    const double expected = kStepPerZ2 * z * z;
+    EXPECT_NEAR(q.stepAt(Eigen::Vector3d(turn * Eigen::Vector3d(0, 0, z) + shift)), expected,
+                0.01 * expected)
+        << "z " << z;
+  }
+  EXPECT_FALSE(detectQuantizedAxis(registered(kinectPlane(0.001, false, 2))).detected());
+  Eigen::Matrix3Xd plate(3, 20000);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (Eigen::Index i = 0; i < plate.cols(); ++i)
+    plate.col(i) << randomVector<2>(u, rng), static_cast<double>(i % 2);
+  EXPECT_FALSE(detectQuantizedAxis(registered(plate)).detected());
 }
 
 TEST(DepthQuantization, WidenedNeighborhoodsSeeTheSurfaceNotTheSlice) {

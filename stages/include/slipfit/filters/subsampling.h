@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -133,7 +134,8 @@ RepresentedMean representedMean(const Eigen::Ref<const Eigen::Matrix3Xf>& points
 /// Where a voxel sample's analysis points lie, and why.
 struct VoxelPlacement {
   SubsamplePosition position = SubsamplePosition::mean;
-  int levels_axis = -1;  ///< the coordinate recorded on levels that made it `first`, or −1
+  int levels_axis = -1;     ///< the coordinate recorded on levels that made it `first`, or −1
+  std::string levels_name;  ///< its QuantizedAxis::name(), for reports
 };
 
 /// The placement a voxel sample of \a points takes when \a requested: `first` (an input point)

@@ -108,8 +108,9 @@ struct NeighborhoodStatistics {
   std::size_t max_size = 0;     ///< largest neighborhood
   double mean_size = 0.0;       ///< mean size over queried finite points
   std::size_t skipped_nonfinite = 0;  ///< queried points with NaN/inf coordinates (empty lists)
-  int quantized_axis = -1;            ///< the coordinate recorded on levels (0, 1, 2), or −1
-  double min_step = 0.0;              ///< its smallest and largest local step, cloud units
+  int quantized_axis = -1;     ///< the coordinate recorded on levels (QuantizedAxis::axis), or −1
+  std::string quantized_name;  ///< its QuantizedAxis::name(), for reports
+  double min_step = 0.0;       ///< its smallest and largest local step, cloud units
   double max_step = 0.0;
   std::size_t widened = 0;  ///< neighborhoods widened to span the levels
   bool pixel_grid = false;  ///< searched on a sensor's pixel grid (GridSearch), not a kd-tree

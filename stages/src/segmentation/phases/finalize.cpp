@@ -93,7 +93,7 @@ void dropNonSurfaces(SegmentationState& s) {
     // shape along that axis is not measured.
     bool one_level = lattice.detected();
     for (std::size_t j = 1; one_level && j < members.size(); ++j)
-      one_level = s.points(lattice.axis, members[j]) == s.points(lattice.axis, members[0]);
+      one_level = lattice.sameLevel(s.points.col(members[j]), s.points.col(members[0]));
     // On noise-free data (σ̂ below a twentieth of the spacing: CAD parts) a region that fills
     // its slab is a primitive fitted across what it does not explain, whatever its points'
     // neighborhoods: dropped as before.

@@ -169,7 +169,7 @@ void NeighborhoodSelection<PointT>::query(std::size_t i, const QuantizedAxis& la
       if (!lattice.detected() || d.empty())
         break;
       const double span =
-          detail::kSpanSteps * lattice.stepAt(static_cast<double>(cloud[i].data[lattice.axis]));
+          detail::kSpanSteps * lattice.stepAt(Eigen::Vector3d(cloud[i].x, cloud[i].y, cloud[i].z));
       if (static_cast<double>(d.back()) < span * span) {
         search_->radiusSearch(cloud, index, span, ind, d,
                               static_cast<unsigned>(detail::kSearchCap * par.k));
@@ -240,6 +240,7 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
   const QuantizedAxis lattice = detectLattice();
   if (par.span_quantization && par.mode == NeighborhoodMode::knn) {
     statistics_.quantized_axis = lattice.axis;
+    statistics_.quantized_name = lattice.detected() ? lattice.name() : std::string();
     statistics_.min_step = lattice.minStep();
     statistics_.max_step = lattice.maxStep();
   }
