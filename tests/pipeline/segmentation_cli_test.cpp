@@ -186,6 +186,37 @@ TEST(SegmentationCli, ARegisteredDepthFramesLevelsAreFoundAcrossItsCamerasAxis) 
   EXPECT_GE(score.mean_iou, 0.80);
 }
 
+// A depth camera whose depth is not on levels (a time-of-flight camera, or a stereo matcher's
+// fine subpixel disparity): at 2–4 m its noise along the ray (σ 10–26 mm) is several pixel
+// spacings wide, and the k nearest of a point lie in a slab of that noise. The demo widens them
+// to span it (neighborhood_selection's span_noise). Tabletop frame of seed 7 (a seed not
+// developed on), 640 × 480: mean IoU 0.745 with 59.9 % of the returns in a segment before, 0.836
+// and 98.2 % now.
+TEST(SegmentationCli, ADepthFrameWithoutLevelsIsSegmentedAcrossItsNoise) {
+  const std::string scan = scratchDir("frame_without_levels_scan");
+  CliResult r = runSlipfit(
+      "run configs/sample_scan.yaml --quiet --set seed=7 --set scan.disparity_step=0 "
+      "--set output.dir=" +
+      scan);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string out = scratchDir("frame_without_levels");
+  r = runSlipfit("run configs/demo.yaml --set input.path=" + scan +
+                 "/cloud.ply --set 'segments.render=\"\"' --set output.dir=" + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_THAT(r.out, ::testing::ContainsRegex(
+                         "neighborhoods: [0-9]+ widened to span the noise across the surface"));
+  const auto cloud = pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
+  const std::vector<int> labels = intField(cloud, "label");
+  const SegmentationScore score = scoreSegmentation(intField(cloud, "truth_label"), labels);
+  const double assigned = static_cast<double>(std::count_if(labels.begin(), labels.end(),
+                                                            [](int l) { return l >= 0; })) /
+                          static_cast<double>(labels.size());
+  std::cout << "frame without levels: mean IoU " << score.mean_iou << ", assigned " << assigned
+            << "\n";
+  EXPECT_GE(score.mean_iou, 0.83);
+  EXPECT_GE(assigned, 0.98);
+}
+
 // Every step reports its time and its own peak memory per input point; the analysis fields
 // (slippage, neighborhood sizes) are carried back to every point only when something reads
 // them: here output.cloud asks for the all-fields cloud, and the labels must agree with

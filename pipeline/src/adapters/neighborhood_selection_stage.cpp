@@ -65,6 +65,11 @@ class NeighborhoodSelectionStage : public Stage {
       context.report << "neighborhoods: " << st.quantized_name << " is recorded on levels "
                      << st.min_step << ".." << st.max_step << " apart; " << st.widened
                      << " neighborhoods widened to span them\n";
+    if (st.noise_widened > 0)
+      context.report << "neighborhoods: " << st.noise_widened
+                     << " widened to span the noise across the surface (local σ "
+                     << st.noise_sigma_low << ".." << st.noise_sigma_high
+                     << ", 5th to 95th percentile)\n";
     if (write_fields_) {
       const std::size_t n = data.size();
       std::vector<std::int32_t> sizes(n);

@@ -53,6 +53,13 @@ struct NeighborhoodParameters {
   /// (of at most 64 k), 8 k in all — so that its neighborhood spans the levels and shows the
   /// surface, not a flat slice of it.
   bool span_quantization = true;
+  /// knn mode, depth not on levels: where a sensor's noise across the surface is wider than the k
+  /// nearest reach (they then lie in a slab of the noise, and their plane is not the surface's), a
+  /// point takes the points within 4 σ of its region instead — its k nearest and an evenly
+  /// strided choice of the rest, 8 k in all. σ is measured at sampled points, each widening its
+  /// neighborhood until it holds the noise's slab; thin walls (two sheets) are told from noise.
+  /// Only where at least a quarter of the samples are so noisy (a sensor's cloud).
+  bool span_noise = true;
   /// OpenMP threads; 0 means as many as the machine has.
   int threads = 0;
 
@@ -93,6 +100,11 @@ struct NeighborhoodParameters {
                     "knn: where one coordinate is recorded on levels (Kinect-like depth), widen "
                     "the neighborhoods that lie within 1.5 local steps to every point within 1.5 "
                     "steps (at most 8 k), so that they span the levels."));
+    visit(self.span_noise,
+          parameter("span_noise",
+                    "knn: where a sensor's noise across the surface is wider than the k nearest "
+                    "reach (depth not on levels), widen those neighborhoods to 4 local σ (at most "
+                    "8 k), so that they span the noise."));
   }
 
   /// Throws InvalidParameterError naming the field, its value and the broken constraint.
@@ -112,7 +124,10 @@ struct NeighborhoodStatistics {
   std::string quantized_name;  ///< its QuantizedAxis::name(), for reports
   double min_step = 0.0;       ///< its smallest and largest local step, cloud units
   double max_step = 0.0;
-  std::size_t widened = 0;  ///< neighborhoods widened to span the levels
+  std::size_t widened = 0;        ///< neighborhoods widened to span the levels
+  std::size_t noise_widened = 0;  ///< neighborhoods widened to span the noise (span_noise)
+  double noise_sigma_low = 0.0;   ///< 5th and 95th percentile of their σ, cloud units
+  double noise_sigma_high = 0.0;
   bool pixel_grid = false;  ///< searched on a sensor's pixel grid (GridSearch), not a kd-tree
 };
 
@@ -175,6 +190,13 @@ class NeighborhoodSelection : public pcl::PCLBase<PointT> {
   /// knn lists of one known size, searched along spatialOrder() and written in place: on a cloud
   /// in no spatial order the kd-tree walks warm memory (THEORY §1).
   void searchInSpatialOrder(const std::vector<char>& queried, Neighborhoods& output);
+  /// knn with span_noise: the lists of the points whose noise is wider than their k nearest,
+  /// widened to span it (noise_span.hpp).
+  void spanNoise(const std::vector<char>& queried, Neighborhoods& output);
+  /// The σ across the surface at each of \a samples (0: not noise-dominated), from the knn lists
+  /// \a output of the \a finite listed points.
+  std::vector<double> sampledNoise(const std::vector<pcl::index_t>& samples,
+                                   const Neighborhoods& output, std::size_t finite) const;
 
   NeighborhoodParameters parameters_;
   SearchPtr search_;

@@ -252,6 +252,8 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
     searchInSpatialOrder(queried, output);
   else
     searchInCloudOrder(queried, lattice, radius_cap, output);
+  if (par.mode == NeighborhoodMode::knn && par.span_noise && !lattice.detected())
+    spanNoise(queried, output);
   summarise(output, statistics_.queries);
   this->deinitCompute();
 }
@@ -388,3 +390,5 @@ void NeighborhoodSelection<PointT>::searchInSpatialOrder(const std::vector<char>
 }
 
 }  // namespace slipfit
+
+#include "slipfit/neighborhoods/impl/noise_span.hpp"
