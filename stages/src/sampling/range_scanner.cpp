@@ -220,6 +220,9 @@ RangeScan scanScene(const SensorScene& scene, const RangeSensorParameters& param
             continue;
           depth = fb / (level * parameters.disparity_step);
         }
+        // Then stored in whole depth units (OpenNI's and RealSense's millimetres).
+        if (parameters.depth_unit > 0.0)
+          depth = std::round(depth / parameters.depth_unit) * parameters.depth_unit;
         if (depth < kCameraNear || depth > kCameraFar)
           continue;
         t = depth / along;

@@ -7,7 +7,8 @@
 ///   0.6–3 m from the scene's focus, looking at it. Axial noise σ(z) = a + b (z − z0)² (Nguyen,
 ///   Izadi & Lovell 2012: a = 1.2 mm, b = 1.9 mm/m², z0 = 0.4 m) on the depth z; the noisy depth
 ///   then recorded on disparity levels z = f B / (k · step), k an integer (baseline B = 7.5 cm,
-///   step 1/8 px: levels z² step / (f B) apart, 3.2 mm at 1 m, 29 mm at 3 m); no return outside
+///   step 1/8 px: levels z² step / (f B) apart, 3.2 mm at 1 m, 29 mm at 3 m), and optionally
+///   stored in whole `depth_unit`s (millimetres, as OpenNI does); no return outside
 ///   [min_range, max_range] (0.5–4.5 m).
 /// - lidar: a terrestrial scanner 1.5–2 m above the ground near the focus, rays on an angular
 ///   grid (azimuth all around, elevation −40° … +30°); Gaussian range noise along the ray.
@@ -52,6 +53,7 @@ struct RangeSensorParameters {
       525.0;  ///< depth camera: focal length in pixels at 640 columns (scaled with width)
   double baseline = 0.075;        ///< depth camera: projector–camera baseline B, metres
   double disparity_step = 0.125;  ///< depth camera: disparity resolution, pixels (0: no levels)
+  double depth_unit = 0.0;  ///< depth camera: depth stored in whole units of this (0: not rounded)
   double noise_a = 0.0012, noise_b = 0.0019, noise_z0 = 0.4;  ///< depth camera: σ(z) model
   /// LiDAR range noise σ along the ray; automatic: 5 mm (lidar), 2 cm (airborne).
   std::optional<double> range_noise;
@@ -96,6 +98,12 @@ struct RangeSensorParameters {
         parameter("disparity_step", "Depth camera: disparity resolution (0: depth not on levels).")
             .in("pixels")
             .between(0, 1));
+    visit(self.depth_unit,
+          parameter("depth_unit",
+                    "Depth camera: depth stored in whole units of this, after the levels (OpenNI "
+                    "and RealSense store millimetres: 0.001; 0: not rounded).")
+              .in("m")
+              .between(0, 0.1));
     visit(self.noise_a,
           parameter("noise_a", "Depth camera: σ(z) = a + b (z − z0)², a.").in("m").atLeast(0));
     visit(self.noise_b,

@@ -28,6 +28,10 @@ struct SegmentationTuning {
   /// The noise is estimated on at most this many neighborhoods (evenly strided): a sample is enough
   /// for a quartile.
   static constexpr std::size_t noise_sample = 20000;
+  /// Depth levels whose median step is below this many times σ̂ are not modelled (depth stored in
+  /// millimetres under centimetres of noise): their rounding adds less than (0.5 / √12)² = 2 % to
+  /// the noise's variance. A disparity sensor's steps are about 2 σ (the simulated Kinect's).
+  static constexpr double fine_levels = 1.5;
   /// Each point's own σ is the lower quartile over this many sampled neighborhoods around it
   /// (phase 1's localNoise): the quartile of 16 χ²_6 estimates is within about 12 % of σ (its
   /// standard error), and 16 samples of 20,000 span a surface of 0.08 % of the cloud.

@@ -274,6 +274,16 @@ std::vector<double> localNoise(const Neighborhoods& hoods, const DataScale& scal
   return sigma;
 }
 
+/// The median of the local steps of \a lattice at evenly strided points (at most T::noise_sample).
+double medianStep(const QuantizedAxis& lattice, const Eigen::Ref<const Eigen::Matrix3Xd>& points) {
+  const auto n = static_cast<std::size_t>(points.cols());
+  const std::size_t stride = std::max<std::size_t>(1, n / T::noise_sample);
+  std::vector<double> steps;
+  for (std::size_t i = 0; i < n; i += stride)
+    steps.push_back(lattice.stepAt(points.col(static_cast<Eigen::Index>(i))));
+  return quantile(std::move(steps), 0.5);
+}
+
 }  // namespace
 
 void estimateScale(SegmentationState& s) {
@@ -282,8 +292,15 @@ void estimateScale(SegmentationState& s) {
   // (about half a step): each point's tolerance adds T::step_factor local steps to the tolerance
   // from the noise and spacing.
   s.result.lattice = detectQuantizedAxis(s.points);
+  DataScale scale = dataScale(s.points, s.hoods, s.result.lattice.detected());
+  // Levels finer than the noise (depth stored in millimetres under centimetres of noise) are
+  // part of it, not a sensor's levels to model: their rounding adds (q / √12)² to the variance.
+  if (s.result.lattice.detected() &&
+      medianStep(s.result.lattice, s.points) < T::fine_levels * scale.noise) {
+    s.result.lattice = QuantizedAxis{};
+    scale = dataScale(s.points, s.hoods, false);
+  }
   s.result.step_factor = s.result.lattice.detected() ? T::step_factor : 0.0;
-  const DataScale scale = dataScale(s.points, s.hoods, s.result.lattice.detected());
   // Distances closer than the floor of noise-free data (a twentieth of the spacing) cannot tell
   // two primitives apart: see shareEdges.
   s.edge_margin = T::spacing_factor * scale.spacing;

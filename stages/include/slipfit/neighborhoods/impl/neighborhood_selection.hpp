@@ -252,7 +252,10 @@ void NeighborhoodSelection<PointT>::compute(Neighborhoods& output) {
     searchInSpatialOrder(queried, output);
   else
     searchInCloudOrder(queried, lattice, radius_cap, output);
-  if (par.mode == NeighborhoodMode::knn && par.span_noise && !lattice.detected())
+  // Levels no list was widened over (depth stored in millimetres under a noise of centimetres)
+  // are finer than the k nearest reach: no levels for the neighborhoods.
+  if (par.mode == NeighborhoodMode::knn && par.span_noise &&
+      (!lattice.detected() || statistics_.widened == 0))
     spanNoise(queried, output);
   summarise(output, statistics_.queries);
   this->deinitCompute();
