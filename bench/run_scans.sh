@@ -5,7 +5,9 @@
 #
 #   bench/run_scans.sh [build-dir] [seeds ...]        (default seeds: 1 2 3 — the development
 #                                                      seeds; the held-out ones are 101 102 103)
-#   KINDS="close tabletop far lidar airborne" (environment; the default is all five)
+#   KINDS="close tabletop far lidar airborne" (environment; the default is all five; two more on
+#   request: nolevels — the tabletop camera with depth not on levels, as a time-of-flight camera;
+#   millimetres — the same, its depth stored in whole millimetres as OpenNI and RealSense do)
 #   SCAN_FORMAT=ply (environment): slipfit reads the PLY of the returns, without the sensor's
 #   grid and pose, in place of the organized PCD
 #
@@ -34,11 +36,13 @@ scan_options() {  # kind -> --set options of configs/sample_scan.yaml
     far) echo "--set scan.distance_min=2.0 --set scan.distance_max=3.0" ;;
     lidar) echo "--set scan.sensor=lidar --set scan.scene=yard" ;;
     airborne) echo "--set scan.sensor=airborne --set scan.scene=yard" ;;
+    nolevels) echo "--set scan.disparity_step=0" ;;
+    millimetres) echo "--set scan.disparity_step=0 --set scan.depth_unit=0.001" ;;
   esac
 }
 cgal_options() {  # kind -> epsilon cluster_epsilon
   case $1 in
-    close | tabletop) echo "0.01 0.02" ;;
+    close | tabletop | nolevels | millimetres) echo "0.01 0.02" ;;
     far) echo "0.02 0.04" ;;
     lidar) echo "0.02 0.1" ;;
     airborne) echo "0.06 0.3" ;;
