@@ -19,6 +19,7 @@
 #include <iostream>
 #include <map>
 #include <random>
+#include <utility>
 
 namespace slipfit::testing {
 namespace {
@@ -186,6 +187,21 @@ TEST(SegmentationCli, ARegisteredDepthFramesLevelsAreFoundAcrossItsCamerasAxis) 
   EXPECT_GE(score.mean_iou, 0.80);
 }
 
+/// The demo's report and segments.ply on a frame of configs/sample_scan.yaml with \a options,
+/// in scratch directories named after \a name.
+std::pair<std::string, pipeline::PointData> demoOnSimulatedFrame(const std::string& name,
+                                                                 const std::string& options) {
+  const std::string scan = scratchDir(name + "_scan");
+  CliResult r =
+      runSlipfit("run configs/sample_scan.yaml --quiet " + options + " --set output.dir=" + scan);
+  EXPECT_EQ(r.code, 0) << r.err;
+  const std::string out = scratchDir(name);
+  r = runSlipfit("run configs/demo.yaml --set input.path=" + scan +
+                 "/cloud.ply --set 'segments.render=\"\"' --set output.dir=" + out);
+  EXPECT_EQ(r.code, 0) << r.err;
+  return {r.out, pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error)};
+}
+
 // A depth camera whose depth is not on levels (a time-of-flight camera, or a stereo matcher's
 // fine subpixel disparity): at 2–4 m its noise along the ray (σ 10–26 mm) is several pixel
 // spacings wide, and the k nearest of a point lie in a slab of that noise. The demo widens them
@@ -193,19 +209,10 @@ TEST(SegmentationCli, ARegisteredDepthFramesLevelsAreFoundAcrossItsCamerasAxis) 
 // developed on), 640 × 480: mean IoU 0.745 with 59.9 % of the returns in a segment before, 0.836
 // and 98.2 % now.
 TEST(SegmentationCli, ADepthFrameWithoutLevelsIsSegmentedAcrossItsNoise) {
-  const std::string scan = scratchDir("frame_without_levels_scan");
-  CliResult r = runSlipfit(
-      "run configs/sample_scan.yaml --quiet --set seed=7 --set scan.disparity_step=0 "
-      "--set output.dir=" +
-      scan);
-  ASSERT_EQ(r.code, 0) << r.err;
-  const std::string out = scratchDir("frame_without_levels");
-  r = runSlipfit("run configs/demo.yaml --set input.path=" + scan +
-                 "/cloud.ply --set 'segments.render=\"\"' --set output.dir=" + out);
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_THAT(r.out, ::testing::ContainsRegex(
-                         "neighborhoods: [0-9]+ widened to span the noise across the surface"));
-  const auto cloud = pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
+  const auto [report, cloud] =
+      demoOnSimulatedFrame("frame_without_levels", "--set seed=7 --set scan.disparity_step=0");
+  EXPECT_THAT(report, ::testing::ContainsRegex(
+                          "neighborhoods: [0-9]+ widened to span the noise across the surface"));
   const std::vector<int> labels = intField(cloud, "label");
   const SegmentationScore score = scoreSegmentation(intField(cloud, "truth_label"), labels);
   const double assigned = static_cast<double>(std::count_if(labels.begin(), labels.end(),
@@ -221,20 +228,12 @@ TEST(SegmentationCli, ADepthFrameWithoutLevelsIsSegmentedAcrossItsNoise) {
 // levels under 3-26 mm of noise. Those levels are part of the noise (T::fine_levels), and the
 // frame is read as one without levels: tabletop seed 7, mean IoU 0.840.
 TEST(SegmentationCli, ADepthFrameStoredInMillimetresIsReadAsOneWithoutLevels) {
-  const std::string scan = scratchDir("frame_in_millimetres_scan");
-  CliResult r = runSlipfit(
-      "run configs/sample_scan.yaml --quiet --set seed=7 --set scan.disparity_step=0 "
-      "--set scan.depth_unit=0.001 --set output.dir=" +
-      scan);
-  ASSERT_EQ(r.code, 0) << r.err;
-  const std::string out = scratchDir("frame_in_millimetres");
-  r = runSlipfit("run configs/demo.yaml --set input.path=" + scan +
-                 "/cloud.ply --set 'segments.render=\"\"' --set output.dir=" + out);
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_THAT(r.out, HasSubstr("neighborhoods: coordinate z is recorded on levels 0.000"));
-  EXPECT_THAT(r.out, HasSubstr("widened to span the noise across the surface"));
-  EXPECT_THAT(r.out, Not(HasSubstr("segmentation: coordinate z is recorded on levels")));
-  const auto cloud = pipeline::readCloud(out + "/segments.ply", pipeline::NanPolicy::error);
+  const auto [report, cloud] =
+      demoOnSimulatedFrame("frame_in_millimetres",
+                           "--set seed=7 --set scan.disparity_step=0 --set scan.depth_unit=0.001");
+  EXPECT_THAT(report, HasSubstr("neighborhoods: coordinate z is recorded on levels 0.000"));
+  EXPECT_THAT(report, HasSubstr("widened to span the noise across the surface"));
+  EXPECT_THAT(report, Not(HasSubstr("segmentation: coordinate z is recorded on levels")));
   const SegmentationScore score =
       scoreSegmentation(intField(cloud, "truth_label"), intField(cloud, "label"));
   std::cout << "frame in millimetres: mean IoU " << score.mean_iou << "\n";
