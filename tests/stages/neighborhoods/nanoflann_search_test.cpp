@@ -81,29 +81,38 @@ TEST(NanoflannSearch, KNearestAreBruteForcesInItsOrder) {
   }
 }
 
+// A capped search keeps the nearest max_nn by (distance, index), ties and copies included, whether
+// the ball holds fewer points than the cap or a hundred times more.
 TEST(NanoflannSearch, RadiusListsAreBruteForcesAndMaxNnKeepsTheNearest) {
   const XyzCloud::Ptr cloud = testCloud(3000, 6, true);
   NanoflannSearch<pcl::PointXYZ> search;
   search.setInputCloud(cloud);
   pcl::Indices ind;
   std::vector<float> d;
+  std::size_t beyond_cap = 0;
   for (std::size_t i = 0; i < cloud->size(); i += 11) {
     if (!pcl::isFinite((*cloud)[i]))
       continue;
     const auto truth = bruteForce(*cloud, (*cloud)[i]);
-    const double r = 0.08;
-    std::size_t within = 0;
-    while (within < truth.size() && truth[within].first < static_cast<float>(r * r))
-      ++within;
-    ASSERT_EQ(static_cast<std::size_t>(search.radiusSearch((*cloud)[i], r, ind, d)), within);
-    for (std::size_t j = 0; j < within; ++j)
-      EXPECT_EQ(ind[j], truth[j].second) << "point " << i << ", rank " << j;
-    const unsigned cap = 5;
-    ASSERT_EQ(static_cast<std::size_t>(search.radiusSearch((*cloud)[i], r, ind, d, cap)),
-              std::min<std::size_t>(cap, within));
-    for (std::size_t j = 0; j < ind.size(); ++j)
-      EXPECT_EQ(ind[j], truth[j].second) << "point " << i << ", capped rank " << j;
+    for (const double r : {0.08, 0.5}) {
+      std::size_t within = 0;
+      while (within < truth.size() && truth[within].first < static_cast<float>(r * r))
+        ++within;
+      ASSERT_EQ(static_cast<std::size_t>(search.radiusSearch((*cloud)[i], r, ind, d)), within);
+      for (std::size_t j = 0; j < within; ++j)
+        EXPECT_EQ(ind[j], truth[j].second) << "point " << i << ", rank " << j;
+      for (const unsigned cap : {1u, 5u, 40u, 5000u}) {
+        ASSERT_EQ(static_cast<std::size_t>(search.radiusSearch((*cloud)[i], r, ind, d, cap)),
+                  std::min<std::size_t>(cap, within));
+        beyond_cap += within > 10 * cap ? 1 : 0;
+        for (std::size_t j = 0; j < ind.size(); ++j) {
+          EXPECT_EQ(ind[j], truth[j].second) << "point " << i << ", r " << r << ", cap " << cap;
+          EXPECT_EQ(d[j], truth[j].first);
+        }
+      }
+    }
   }
+  EXPECT_GT(beyond_cap, 100u) << "balls far fuller than their cap were not tried";
 }
 
 // With indices, only those points are searched and returned, under their cloud indices.

@@ -104,33 +104,35 @@ class NanoflannSearch : public pcl::search::Search<PointT> {
     k_sqr_distances.clear();
     if (!tree_ || rows_.empty() || !pcl::isFinite(point) || !(radius >= 0.0))
       return 0;
-    thread_local std::vector<std::pair<std::uint32_t, float>> found;
-    found.clear();
     const float query[3] = {point.x, point.y, point.z};
-    nanoflann::SearchParams params;
-    params.sorted = false;
-    tree_->radiusSearch(query, static_cast<float>(radius * radius), found, params);
+    const auto r2 = static_cast<float>(radius * radius);
     // By distance, ties by row; the tree's rows follow the cloud's order, so ordering rows orders
     // cloud indices. One integer per result: a distance is a non-negative float, whose bits order
     // as its values do, above the row (a sort of 64-bit keys, not of pairs by a comparison).
     thread_local std::vector<std::uint64_t> keys;
-    keys.resize(found.size());
-    for (std::size_t j = 0; j < found.size(); ++j) {
-      std::uint32_t bits;
-      std::memcpy(&bits, &found[j].second, sizeof bits);
-      keys[j] = std::uint64_t{bits} << 32 | found[j].first;
-    }
-    if (max_nn > 0 && keys.size() > max_nn) {
-      std::partial_sort(keys.begin(), keys.begin() + max_nn, keys.end());
-      keys.resize(max_nn);
+    keys.clear();
+    if (max_nn > 0) {
+      // The nearest max_nn within the radius, kept in a heap while the tree is searched: a ball
+      // holding far more points than max_nn (a wide radius in a dense or volumetric cloud) costs
+      // max_nn, not every point in it.
+      CappedBall ball(r2, max_nn, keys);
+      tree_->findNeighbors(ball, query, nanoflann::SearchParams());
+      std::sort(keys.begin(), keys.end());  // faster than sort_heap
     } else {
+      thread_local std::vector<std::pair<std::uint32_t, float>> found;
+      found.clear();
+      nanoflann::SearchParams params;
+      params.sorted = false;
+      tree_->radiusSearch(query, r2, found, params);
+      keys.resize(found.size());
+      for (std::size_t j = 0; j < found.size(); ++j)
+        keys[j] = key(found[j].second, found[j].first);
       std::sort(keys.begin(), keys.end());
     }
     k_indices.resize(keys.size());
     k_sqr_distances.resize(keys.size());
     for (std::size_t j = 0; j < keys.size(); ++j) {
-      const auto bits = static_cast<std::uint32_t>(keys[j] >> 32);
-      std::memcpy(&k_sqr_distances[j], &bits, sizeof bits);
+      k_sqr_distances[j] = distance(keys[j]);
       k_indices[j] = rows_[static_cast<std::uint32_t>(keys[j])];
     }
     return static_cast<int>(keys.size());
@@ -149,6 +151,55 @@ class NanoflannSearch : public pcl::search::Search<PointT> {
       return std::nextafter(nanoflann::KNNResultSet<float, std::uint32_t>::worstDist(),
                             std::numeric_limits<float>::infinity());
     }
+  };
+
+  /// A result's sort key: its squared distance's bits above its tree row.
+  static std::uint64_t key(float sqr_distance, std::uint32_t row) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &sqr_distance, sizeof bits);
+    return std::uint64_t{bits} << 32 | row;
+  }
+  static float distance(std::uint64_t key) {
+    const auto bits = static_cast<std::uint32_t>(key >> 32);
+    float d;
+    std::memcpy(&d, &bits, sizeof d);
+    return d;
+  }
+
+  /// A nanoflann result set holding the \a cap least keys strictly within a squared radius, as a
+  /// max-heap. Once full, the tree prunes at the largest kept distance (one float step further,
+  /// so that an equally distant point of a lower row can still replace it).
+  class CappedBall {
+   public:
+    CappedBall(float sqr_radius, std::size_t cap, std::vector<std::uint64_t>& heap)
+        : sqr_radius_(sqr_radius), cap_(cap), heap_(heap) {}
+    std::size_t size() const { return heap_.size(); }
+    bool full() const { return heap_.size() == cap_; }
+    bool addPoint(float dist, std::uint32_t row) {
+      if (!(dist < sqr_radius_))
+        return true;
+      const std::uint64_t k = key(dist, row);
+      if (heap_.size() < cap_) {
+        heap_.push_back(k);
+        std::push_heap(heap_.begin(), heap_.end());
+      } else if (k < heap_.front()) {
+        std::pop_heap(heap_.begin(), heap_.end());
+        heap_.back() = k;
+        std::push_heap(heap_.begin(), heap_.end());
+      }
+      return true;
+    }
+    float worstDist() const {
+      if (!full())
+        return sqr_radius_;
+      return std::min(sqr_radius_, std::nextafter(distance(heap_.front()),
+                                                  std::numeric_limits<float>::infinity()));
+    }
+
+   private:
+    float sqr_radius_;
+    std::size_t cap_;
+    std::vector<std::uint64_t>& heap_;
   };
 
   /// nanoflann's view of the packed coordinates.

@@ -72,10 +72,15 @@ std::vector<double> NeighborhoodSelection<PointT>::sampledNoise(
             break;
           r = std::min(ns::kGrowth * t.rms, ns::kMaxGrowth * r0);
           search_->radiusSearch(cloud, i, r, ind, d, search_cap);
-          if (ind.size() >= search_cap)  // the nearest search_cap: a smaller ball
+          const bool capped = ind.size() >= search_cap;
+          if (capped)  // the nearest search_cap: a smaller ball
             r = std::sqrt(static_cast<double>(d.back()));
           t = surfaceThickness(cloud, ind);
           settled = ns::kGrowth * t.rms <= ns::kSettled * r;
+          // Unsettled, a capped ball asks for a radius beyond its own: the next search would
+          // return the same search_cap nearest, and the same thickness.
+          if (capped && !settled)
+            break;
         }
         // A ball that holds the whole cloud measures the cloud, not a surface's noise.
         const bool slab = t.kurtosis >= ns::kSheetKurtosis && ind.size() < finite;
