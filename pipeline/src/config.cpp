@@ -40,11 +40,13 @@ void OutputSection::declare(OptionSet& o) {
 }
 
 void TilingSection::declare(OptionSet& o) {
-  o.add("size", size,
+  o.add("size", size, "auto",
         "Edge of a tile's core in the cloud's units: the cloud is streamed into square tiles of "
         "the x-y plane (split further where a core holds over max_points), each run through the "
         "stages on its own and the segments joined across tiles (docs/TILING.md); 0: one "
-        "untiled run.")
+        "untiled run; auto: the edge at which a tile of the cloud's mean density over its x-y "
+        "extent holds max_points, rounded up to 1, 2 or 5 times a power of ten (one more read "
+        "of the input; the report says what it chose).")
       .unit("units")
       .atLeast(0.0);
   o.add("buffer", buffer,
@@ -136,10 +138,11 @@ class Loader {
       parseSection(root["output"], "output", [&](OptionSet& o) { config.output.declare(o); });
     if (root["tiling"])
       parseSection(root["tiling"], "tiling", [&](OptionSet& o) { config.tiling.declare(o); });
-    if (config.tiling.enabled() && config.tiling.size < std::numeric_limits<double>::min())
+    const std::optional<double>& size = config.tiling.size;
+    if (size && *size > 0.0 && *size < std::numeric_limits<double>::min())
       fail(keyPlace("tiling", "size", root["tiling"]["size"].Mark()) +
            "section 'tiling': size is too small to divide coordinates by (under 2.2e-308)");
-    if (config.tiling.enabled() && config.tiling.bufferWidth() >= 0.5 * config.tiling.size)
+    if (size && *size > 0.0 && config.tiling.bufferWidth(*size) >= 0.5 * *size)
       fail(keyPlace("tiling", "buffer", root["tiling"]["buffer"].Mark()) +
            "section 'tiling': buffer must be under size / 2");
     const YAML::Node stages = root["stages"];

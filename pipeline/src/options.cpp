@@ -196,6 +196,25 @@ Option& OptionSet::add(std::string name, std::optional<double>& field, std::stri
               });
 }
 
+Option& OptionSet::add(std::string name, std::optional<double>& field, std::string_view automatic,
+                       std::string help) {
+  return push(
+      std::move(name), "float", field ? number(*field) : std::string(automatic), std::move(help),
+      [&field, automatic = std::string(automatic)](const YAML::Node& node, const Option& option) {
+        const std::string text = scalarText(node, option);
+        if (text == automatic) {
+          field.reset();
+          return;
+        }
+        std::istringstream is(text);
+        is.imbue(std::locale::classic());
+        double value = 0.0;
+        if (!(is >> value) || is.peek() != std::char_traits<char>::eof())
+          throw OptionValueError("expected a number or '" + automatic + "', got '" + text + "'");
+        field = parseNumber(node, option, false);
+      });
+}
+
 Option& OptionSet::add(std::string name, std::optional<std::size_t>& field, std::string help) {
   return push(std::move(name), "int", field ? std::to_string(*field) : "unset", std::move(help),
               [&field](const YAML::Node& node, const Option& option) {

@@ -259,9 +259,12 @@ std::string workDirectoryPath(const PipelineConfig& config) {
 /// node does not hold).
 std::string configDigest(const PipelineConfig& config) {
   std::ostringstream text;
-  text << std::setprecision(17) << effectiveConfig(config) << config.input.path << "\n"
-       << config.tiling.size << " " << config.tiling.bufferWidth() << " "
-       << config.tiling.max_points << "\n";
+  text << std::setprecision(17) << effectiveConfig(config) << config.input.path << "\n";
+  if (config.tiling.size)
+    text << *config.tiling.size << " " << config.tiling.bufferWidth(*config.tiling.size);
+  else
+    text << "auto " << config.tiling.buffer;
+  text << " " << config.tiling.max_points << "\n";
   return detail::hex(detail::digest(text.str()));
 }
 
@@ -317,7 +320,6 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   std::optional<WorkDirectory> claimed;  // the leader's, locked until the run ends
   const std::string tiles_dir = dir + "/tiles", runs_dir = dir + "/runs";
   const std::string manifest_path = dir + "/manifest.yaml";
-  const TileGrid grid(config.tiling.size, config.tiling.bufferWidth());
   const auto start = std::chrono::steady_clock::now();
   const auto seconds = [](auto since) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
@@ -331,6 +333,21 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       claimed.emplace(dir, config.input.path);
       for (const std::string& done : removeLeftovers(config.output.dir, config.input.path))
         report << "output: " << done << ", left by a killed run\n";
+      double size = config.tiling.size.value_or(0.0);
+      if (!config.tiling.size) {
+        progress.begin(1, 3, "size the tiles of " + config.input.path);
+        const std::uint64_t target = config.tiling.max_points > 0
+                                         ? config.tiling.max_points
+                                         : TilingSection::kDefaultMaxPoints;
+        const AutoTileSize a =
+            autoTileSize(config.input.path, config.input.nan, target, config.tiling.buffer, {});
+        progress.end();
+        size = a.size;
+        report << "tiling: size auto: " << a.size << " (" << a.points << " points over " << a.width
+               << " x " << a.depth << " in x and y: a tile of their mean density "
+               << "holds about " << a.target << ")\n";
+      }
+      const TileGrid grid(size, config.tiling.bufferWidth(size));
       TilingManifest old;
       std::uint64_t bytes = 0;
       std::int64_t mtime = 0;

@@ -582,6 +582,50 @@ TEST(TiledRun, DenseTilesAreSplitIntoQuartersThatSegmentAsSmallerTilesDo) {
   EXPECT_NEAR(iou_split, iou_grid, 0.0076);
 }
 
+// tiling.size: auto picks the edge at which a tile of the input's mean density over its x-y
+// extent holds max_points (computed here from the input's coordinates: e² = w d M / N, or
+// e = w M / N once a tile is wider than the narrow side d, rounded up to 1, 2 or 5 × 10^k), says
+// so, and runs exactly as that size given by hand: the same bytes. Its tiles hold at most
+// max_points where they can still be split.
+TEST(TiledRun, AutoSizeIsTheEdgeAMeanTileHoldsMaxPointsAtAndRunsAsThatSize) {
+  const std::string cloud = scene("tiled_auto_scene", 12, 30000, 8);
+  const Fields in = readFields(cloud);
+  const auto [x_lo, x_hi] = std::minmax_element(in.x.begin(), in.x.end());
+  const auto [y_lo, y_hi] = std::minmax_element(in.y.begin(), in.y.end());
+  const double w = double(*x_hi) - double(*x_lo), d = double(*y_hi) - double(*y_lo);
+  const double share = 6000.0 / static_cast<double>(in.x.size());
+  const double edge = std::max(std::sqrt(w * d * share), std::max(w, d) * share);
+  const double decade = std::pow(10.0, std::floor(std::log10(edge)));
+  double size = 10.0 * decade;
+  for (const double step : {5.0, 2.0, 1.0})
+    size = step * decade >= edge ? step * decade : size;
+  std::cout << "extent " << w << " x " << d << ", " << in.x.size() << " points: edge " << edge
+            << ", size " << size << "\n";
+  const std::string base = "run configs/demo.yaml --set input.path=" + cloud +
+                           " --set 'segments.render=\"\"' --set tiling.max_points=6000" +
+                           " --set output.dir=";
+  const std::string automatic = scratchDir("tiled_auto"), by_hand = scratchDir("tiled_by_hand");
+  CliResult r = runSlipfit(base + automatic + " --set tiling.size=auto");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ostringstream said;
+  said << "tiling: size auto: " << size << " (" << in.x.size() << " points over ";
+  EXPECT_THAT(r.out, HasSubstr(said.str()));
+  const YAML::Node manifest = YAML::LoadFile(automatic + "/tiles/manifest.yaml");
+  EXPECT_EQ(manifest["size"].as<double>(), size);
+  const TileTree tree(TileGrid(size, 0.1 * size));
+  for (const YAML::Node& t : manifest["tiles"]) {
+    const TileKey key{t[0].as<std::int64_t>(), t[1].as<std::int64_t>(), t[2].as<int>()};
+    if (t[4].as<std::uint64_t>() > 6000)
+      EXPECT_FALSE(tree.splittable(key)) << key.i << " " << key.j << " " << key.level;
+  }
+  std::ostringstream hand;
+  hand << base << by_hand << " --set tiling.size=" << size;
+  r = runSlipfit(hand.str());
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const std::string file : {"/segments.ply", "/primitives.yaml"})
+    EXPECT_EQ(slurp(automatic + file), slurp(by_hand + file)) << file;
+}
+
 TEST(TiledRun, FailuresSayWhatFailedAndWriteNoOutput) {
   const SmallTiledRun run("tiled_failures");
   ASSERT_EQ(runSlipfit(run.args).code, 0);

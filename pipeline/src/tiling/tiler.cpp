@@ -105,6 +105,52 @@ void inputStamp(const std::string& path, std::uint64_t& bytes, std::int64_t& mti
   mtime = static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
 }
 
+double roundUpToOneTwoFive(double edge) {
+  if (!(edge > 0.0) || !std::isfinite(edge))
+    return edge;
+  const double decade = std::pow(10.0, std::floor(std::log10(edge)));
+  for (const double step : {1.0, 2.0, 5.0, 10.0})
+    if (step * decade >= edge)
+      return step * decade;
+  return 10.0 * decade;  // log10's rounding put edge a hair above 10 × decade
+}
+
+AutoTileSize autoTileSize(const std::string& input, NanPolicy nan, std::uint64_t target,
+                          double buffer,
+                          const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
+  CloudStream in(input);
+  double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  double hi[2] = {-lo[0], -lo[1]};
+  AutoTileSize a;
+  forEachRow(
+      in, input, nan,
+      [&](std::uint64_t, const char*, double x, double y, double) {
+        lo[0] = std::min(lo[0], x);
+        hi[0] = std::max(hi[0], x);
+        lo[1] = std::min(lo[1], y);
+        hi[1] = std::max(hi[1], y);
+        ++a.points;
+      },
+      progress, 0, in.size());
+  if (a.points == 0)
+    throw RunError("input '" + input + "': no point has finite coordinates to tile");
+  a.width = hi[0] - lo[0];
+  a.depth = hi[1] - lo[1];
+  a.target = std::max<std::uint64_t>(target, 1);
+  const double share = static_cast<double>(a.target) / static_cast<double>(a.points);
+  // Evenly over the box: e² N / (w d) = target while e is within the shorter side; past it a
+  // tile covers e × min(w, d), and e N / max(w, d) = target. The larger of the two is the one
+  // that holds.
+  const double longer = std::max(a.width, a.depth);
+  double edge = std::max(std::sqrt(a.width * a.depth * share), longer * share);
+  if (buffer > 0.0)
+    edge = std::max(edge, 4.0 * buffer);
+  if (!(edge > 0.0))  // every point at one x, y: any edge holds them
+    edge = buffer > 0.0 ? 4.0 * buffer : 1.0;
+  a.size = roundUpToOneTwoFive(edge);
+  return a;
+}
+
 TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGrid& grid,
                           std::uint64_t max_points, const std::string& dir,
                           const std::function<void(std::uint64_t, std::uint64_t)>& progress) {

@@ -71,6 +71,29 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
                           std::uint64_t max_points, const std::string& dir,
                           const std::function<void(std::uint64_t, std::uint64_t)>& progress);
 
+/// tiling.size: auto, and what it was chosen from.
+struct AutoTileSize {
+  double size = 0.0;         ///< the edge chosen
+  std::uint64_t points = 0;  ///< the input's points with finite coordinates
+  double width = 0.0;        ///< their x extent
+  double depth = 0.0;        ///< their y extent
+  std::uint64_t target = 0;  ///< the points a tile of their mean density was sized to hold
+};
+
+/// The edge of a tile's core for tiling.size: auto — where a tile holds \a target of the input's
+/// finite points (tiling.max_points, or its default when that is 0) spread evenly over their x-y
+/// bounding box (w × d, d ≤ w): e² = w d target / N while e ≤ d, and past it, where a tile covers
+/// e × d, e = w target / N (points along a line included); at least four times \a buffer when
+/// one is given (so that a tile can be split once); rounded up to 1, 2 or 5 times a power of
+/// ten. Denser parts than the mean are left to the splits of max_points. Reads the input once;
+/// throws RunError as writeTiles does for unreadable input, and when no point is finite.
+AutoTileSize autoTileSize(const std::string& input, NanPolicy nan, std::uint64_t target,
+                          double buffer,
+                          const std::function<void(std::uint64_t, std::uint64_t)>& progress);
+
+/// \a edge rounded up to 1, 2 or 5 times a power of ten.
+double roundUpToOneTwoFive(double edge);
+
 /// The most tiles a tiling may make, and the fewest points a tile may own on average: past
 /// either the run is refused before any tile is written (a tile of a few points cannot be
 /// segmented; its file and run cost the same as a full one's).

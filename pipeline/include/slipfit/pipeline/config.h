@@ -42,15 +42,18 @@ struct OutputSection {
 
 /// The `tiling:` section: an out-of-core run in tiles (docs/TILING.md). Off while size is 0.
 struct TilingSection {
-  double size = 0.0;    ///< largest edge of a tile's core in the cloud's units (x-y); 0: untiled
+  /// Largest edge of a tile's core in the cloud's units (x-y); 0: untiled; unset ("auto"): chosen
+  /// from the input's extent and max_points (autoTileSize, tiling/tiler.h).
+  std::optional<double> size = 0.0;
   double buffer = 0.0;  ///< width of the band each tile also reads; 0: a tenth of size
   /// The most points a tile's core may hold: denser tiles are split into quarters; 0: no limit.
   std::uint64_t max_points = kDefaultMaxPoints;
   static constexpr std::uint64_t kDefaultMaxPoints = 1000000;
   std::string workdir;  ///< tiles and per-tile results; "": <output.dir>/tiles
   void declare(OptionSet& options);
-  bool enabled() const { return size > 0.0; }
-  double bufferWidth() const { return buffer > 0.0 ? buffer : 0.1 * size; }
+  bool enabled() const { return !size || *size > 0.0; }
+  /// The buffer of tiles of edge \a edge (the size, once chosen).
+  double bufferWidth(double edge) const { return buffer > 0.0 ? buffer : 0.1 * edge; }
 };
 
 /// Top-level settings besides the sections.

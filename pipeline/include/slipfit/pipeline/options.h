@@ -146,6 +146,9 @@ class OptionSet {
   Option& add(std::string name, std::uint64_t& field, std::string help);
   Option& add(std::string name, std::optional<int>& field, std::string help);
   Option& add(std::string name, std::optional<double>& field, std::string help);
+  /// A number, or the word \a automatic, which leaves \a field unset for the program to choose.
+  Option& add(std::string name, std::optional<double>& field, std::string_view automatic,
+              std::string help);
   Option& add(std::string name, std::optional<std::size_t>& field, std::string help);
   Option& add(std::string name, Eigen::Vector3f& field, std::string help);
   Option& add(std::string name, Eigen::Vector3d& field, std::string help);
