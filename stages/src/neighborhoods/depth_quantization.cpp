@@ -1,5 +1,6 @@
 #include "slipfit/neighborhoods/depth_quantization.h"
 #include "slipfit/core/median.h"
+#include "slipfit/core/radix_sort.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -34,7 +35,7 @@ QuantizedAxis latticeOf(std::vector<double> values, int axis, double span = 0.0)
   QuantizedAxis none;
   if (values.size() < kLevelPoints * kMinLevels)
     return none;
-  std::sort(values.begin(), values.end());
+  radixSort(values);
   std::vector<double> levels;
   std::size_t on_levels = 0;
   for (std::size_t b = 0; b < values.size();) {
