@@ -18,7 +18,8 @@ namespace {
 /// The bits of each value: equal sequences of doubles, +0 and −0 told apart.
 std::vector<std::uint64_t> bitsOf(const std::vector<double>& v) {
   std::vector<std::uint64_t> b(v.size());
-  std::memcpy(b.data(), v.data(), v.size() * sizeof(double));
+  for (std::size_t i = 0; i < v.size(); ++i)
+    std::memcpy(&b[i], &v[i], sizeof(double));
   return b;
 }
 
