@@ -8,6 +8,7 @@
 #include "slipfit/pipeline/progress.h"
 #include "slipfit/pipeline/tile_roles.h"
 
+#include "tiling/packed_values.h"
 #include "tiling/tile_job.h"
 #include "tiling/tile_merge.h"
 #include "tiling/tiler.h"
@@ -141,7 +142,8 @@ struct TileSampling {
 /// \a count false, only what needs no count of the tiles' voxels (the random mode's shares).
 std::vector<TileSampling> tileSamplings(const PipelineConfig& config,
                                         const TilingManifest& manifest, const TileTree& tree,
-                                        const std::string& tiles_dir, bool count) {
+                                        const std::string& tiles_dir, bool count,
+                                        WorkDistribution* work = nullptr) {
   std::vector<TileSampling> samplings;
   for (std::size_t k = 0; k < config.stages.size(); ++k) {
     const auto* sampled = dynamic_cast<const SampledAnalysis*>(config.stages[k].stage.get());
@@ -177,18 +179,33 @@ std::vector<TileSampling> tileSamplings(const PipelineConfig& config,
     for (int a = 0; a < 3; ++a)
       sizes[a] = static_cast<double>(static_cast<float>(manifest.hi[a]) -
                                      static_cast<float>(manifest.lo[a]));
+    // Shared among the ranks (with \a work: a collective call): each counts its tiles' voxels
+    // and the counts are added up, so that every rank searches alike. A rank that cannot read
+    // its tiles counts none and says so after the search.
+    std::string failure;
+    const int rank = work ? work->rank() : 0, ranks = work ? work->ranks() : 1;
     t.leaf = voxelLeafForTarget(sizes, p.points, [&](double l) {
       std::size_t n = 0;
-      for (const TileInfo& tile : manifest.tiles) {
-        CloudStream in(tiles_dir + "/" + tile.name() + ".ply");
-        Eigen::Matrix3Xd xyz;
-        in.read(0, in.size(), xyz);
-        n += occupiedVoxels(xyz, l, origin, [&](const Eigen::Vector3d& corner) {
-          return tree.owner(corner.x(), corner.y()) == tile.key;
-        });
+      for (std::size_t k = static_cast<std::size_t>(rank);
+           k < manifest.tiles.size() && failure.empty(); k += static_cast<std::size_t>(ranks)) {
+        const TileInfo& tile = manifest.tiles[k];
+        try {
+          CloudStream in(tiles_dir + "/" + tile.name() + ".ply");
+          Eigen::Matrix3Xd xyz;
+          in.read(0, in.size(), xyz);
+          n += occupiedVoxels(xyz, l, origin, [&](const Eigen::Vector3d& corner) {
+            return tree.owner(corner.x(), corner.y()) == tile.key;
+          });
+        } catch (const std::exception& e) {
+          if (ranks == 1)
+            throw;
+          failure = e.what();
+        }
       }
-      return n;
+      return work ? work->sum(n) : n;
     });
+    if (work)
+      work->shareFailure(failure);
     samplings.push_back(t);
   }
   return samplings;
@@ -298,6 +315,28 @@ std::string splitsText(const TilingManifest& m) {
   return text.str();
 }
 
+/// The report's lines on where a tiled run's time went: the phases its ranks shared, and those
+/// that more ranks do not shorten (the leader's alone while the others wait, or work every rank
+/// does alike), with their share of the run.
+std::string timingText(const std::vector<std::pair<std::string, double>>& shared,
+                       const std::vector<std::pair<std::string, double>>& serial, int ranks,
+                       double total) {
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(2) << "timing: shared by " << ranks
+       << (ranks == 1 ? " process" : " ranks") << ":";
+  for (std::size_t k = 0; k < shared.size(); ++k)
+    text << (k ? ", " : " ") << shared[k].first << " " << shared[k].second << " s";
+  double alone = 0.0;
+  for (const auto& [name, s] : serial)
+    alone += s;
+  text << "\n  not shared: " << alone << " s of " << total << " s (" << std::setprecision(1)
+       << 100.0 * alone / std::max(total, 1e-9) << " %)" << std::setprecision(2) << ":";
+  for (std::size_t k = 0; k < serial.size(); ++k)
+    text << (k ? ", " : " ") << serial[k].first << " " << serial[k].second << " s";
+  text << "\n";
+  return text.str();
+}
+
 }  // namespace
 
 void checkTiledRun(const PipelineConfig& config) {
@@ -325,7 +364,13 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
   };
 
-  // 1. Tiles: reused when the manifest is of this input and tiling, else written anew.
+  // Where the time goes: phases the ranks share, and phases that do not get shorter with more
+  // ranks (the leader's alone, while the others wait; or work every rank does alike).
+  std::vector<std::pair<std::string, double>> shared, serial;
+  auto step_start = std::chrono::steady_clock::now();
+
+  // 1. Tiles: reused when the manifest is of this input and tiling, else written anew by all the
+  // ranks, each its share of the input's rows.
   TilingManifest manifest;
   std::string failure;
   if (work.leader()) {
@@ -333,21 +378,44 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       claimed.emplace(dir, config.input.path);
       for (const std::string& done : removeLeftovers(config.output.dir, config.input.path))
         report << "output: " << done << ", left by a killed run\n";
-      double size = config.tiling.size.value_or(0.0);
-      if (!config.tiling.size) {
-        progress.begin(1, 3, "size the tiles of " + config.input.path);
-        const std::uint64_t target = config.tiling.max_points > 0
-                                         ? config.tiling.max_points
-                                         : TilingSection::kDefaultMaxPoints;
-        const AutoTileSize a =
-            autoTileSize(config.input.path, config.input.nan, target, config.tiling.buffer, {});
-        progress.end();
-        size = a.size;
-        report << "tiling: size auto: " << a.size << " (" << a.points << " points over " << a.width
-               << " x " << a.depth << " in x and y: a tile of their mean density "
-               << "holds about " << a.target << ")\n";
-      }
-      const TileGrid grid(size, config.tiling.bufferWidth(size));
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+  }
+  work.shareFailure(failure);
+  // Every rank sees the leader's work directory (its token) and runs the leader's config.
+  const std::string token = work.broadcast(claimed ? claimed->token() : "");
+  const std::string leader_config = work.broadcast(configDigest(config));
+  failure.clear();
+  if (readRunToken(dir) != token)
+    failure = "tiling.workdir '" + dir +
+              "' is not the one the first rank claimed: the ranks must share one work directory";
+  else if (configDigest(config) != leader_config)
+    failure =
+        "this rank's config differs from the first rank's: every rank must run the same "
+        "config and --set options";
+  work.shareFailure(failure);
+  serial.emplace_back("work directory", seconds(step_start));
+  double size = config.tiling.size.value_or(0.0);
+  step_start = std::chrono::steady_clock::now();
+  if (!config.tiling.size) {
+    progress.begin(1, 3, "size the tiles of " + config.input.path);
+    const std::uint64_t target =
+        config.tiling.max_points > 0 ? config.tiling.max_points : TilingSection::kDefaultMaxPoints;
+    const AutoTileSize a =
+        autoTileSize(config.input.path, config.input.nan, target, config.tiling.buffer, {}, &work);
+    progress.end();
+    size = a.size;
+    report << "tiling: size auto: " << a.size << " (" << a.points << " points over " << a.width
+           << " x " << a.depth << " in x and y: a tile of their mean density "
+           << "holds about " << a.target << ")\n";
+    shared.emplace_back("tile size", seconds(step_start));
+  }
+  const TileGrid grid(size, config.tiling.bufferWidth(size));
+  step_start = std::chrono::steady_clock::now();
+  std::string reuse;  // the leader's verdict on the tiles: "1" reuse them, "0" tile anew
+  if (work.leader()) {
+    try {
       TilingManifest old;
       std::uint64_t bytes = 0;
       std::int64_t mtime = 0;
@@ -364,70 +432,88 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
           report << "tiling: " << why << "; tiling anew\n";
         }
       }
-      if (manifest.tiles.empty()) {
+      if (manifest.tiles.empty())
         claimed->removeTiling();
-        progress.begin(1, 3, "tile " + config.input.path);
-        manifest = writeTiles(config.input.path, config.input.nan, grid, config.tiling.max_points,
-                              tiles_dir, [](std::uint64_t, std::uint64_t) {});
-        progress.end();
-        writeAtomically(manifest_path, manifestText(manifest));
-        report << "tiling: " << manifest.points << " points";
-        if (manifest.dropped)
-          report << " (" << manifest.dropped << " with a non-finite coordinate dropped)";
-        report << " into " << manifest.tiles.size() << " tiles of " << grid.size() << " (buffer "
-               << grid.buffer() << ") in " << tiles_dir << ", " << std::fixed
-               << std::setprecision(2) << seconds(start) << " s\n"
-               << std::defaultfloat;
-        report << splitsText(manifest);
-      }
     } catch (const std::exception& e) {
       failure = e.what();
-    } catch (...) {
-      failure = "tiling failed";
+    }
+    reuse = manifest.tiles.empty() ? "0" : "1";
+  }
+  const bool anew = work.broadcast(reuse) == "0";
+  work.shareFailure(failure);
+  serial.emplace_back("reuse check", seconds(step_start));
+  const auto tiling_start = std::chrono::steady_clock::now();
+  if (anew) {
+    progress.begin(1, 3, "tile " + config.input.path);
+    manifest = writeTiles(
+        config.input.path, config.input.nan, grid, config.tiling.max_points, tiles_dir,
+        [](std::uint64_t, std::uint64_t) {}, &work);
+    progress.end();
+    shared.emplace_back("tiling", seconds(tiling_start));
+    step_start = std::chrono::steady_clock::now();
+    if (work.leader()) {
+      try {
+        writeAtomically(manifest_path, manifestText(manifest));
+      } catch (const std::exception& e) {
+        failure = e.what();
+      }
+      report << "tiling: " << manifest.points << " points";
+      if (manifest.dropped)
+        report << " (" << manifest.dropped << " with a non-finite coordinate dropped)";
+      report << " into " << manifest.tiles.size() << " tiles of " << grid.size() << " (buffer "
+             << grid.buffer() << ") in " << tiles_dir << ", " << std::fixed << std::setprecision(2)
+             << seconds(tiling_start) << " s on " << work.ranks()
+             << (work.ranks() == 1 ? " process" : " ranks") << "\n"
+             << std::defaultfloat;
+      report << splitsText(manifest);
     }
   }
   work.shareFailure(failure);
-  // Every rank sees the leader's work directory (its token) and runs the leader's config.
-  const std::string token = work.broadcast(claimed ? claimed->token() : "");
-  const std::string leader_config = work.broadcast(configDigest(config));
-  failure.clear();
-  if (readRunToken(dir) != token)
-    failure = "tiling.workdir '" + dir +
-              "' is not the one the first rank claimed: the ranks must share one work directory";
-  else if (configDigest(config) != leader_config)
-    failure =
-        "this rank's config differs from the first rank's: every rank must run the same "
-        "config and --set options";
+  if (anew)
+    serial.emplace_back("manifest", seconds(step_start));
+  if (!work.leader() && manifest.tiles.empty() && !readManifest(manifest_path, manifest))
+    failure = "'" + manifest_path + "': cannot be read on this rank";
   work.shareFailure(failure);
-  if (!work.leader() && !readManifest(manifest_path, manifest))
-    work.shareFailure("'" + manifest_path + "': cannot be read on this rank");
 
-  // The analysis density of the untiled run, in every tile.
+  // The analysis density of the untiled run, in every tile: counted by all the ranks, each its
+  // share of the tiles, unless an earlier run of this config on these tiles counted it.
+  auto phase_start = std::chrono::steady_clock::now();
   std::vector<TileSampling> samplings;
+  std::string fingerprint = effectiveConfig(config);
+  // The leaf search reads every tile a few times: its result is kept for reruns of this config
+  // on these tiles (the file goes with the tiles when they are written anew).
+  const std::string cache = dir + "/analysis", key = fingerprint + "\n--\nsamplings 2\n";
+  std::string text;  // the leader's: "1" and the cached samplings, or "0"
   failure.clear();
   if (work.leader()) {
+    text = readText(cache);
+    bool cached = false;
+    if (text.rfind(key, 0) == 0) {
+      try {
+        text = text.substr(key.size());
+        samplings = tileSamplings(config, manifest, manifest.tree(), tiles_dir, false);
+        readSamplings(text, samplings);
+        cached = true;
+      } catch (const YAML::Exception&) {
+        // a damaged cache: counted again below
+      }
+    }
+    text = cached ? "1" + text : "0";
+  }
+  text = work.broadcast(text);
+  serial.emplace_back("analysis cache", seconds(phase_start));
+  phase_start = std::chrono::steady_clock::now();
+  if (text[0] == '0') {
+    samplings = tileSamplings(config, manifest, manifest.tree(), tiles_dir, true, &work);
+    text = samplingsText(samplings);
+    shared.emplace_back("analysis", seconds(phase_start));
+  } else {
+    text = text.substr(1);
+  }
+  phase_start = std::chrono::steady_clock::now();
+  if (work.leader()) {
     try {
-      std::string fingerprint = effectiveConfig(config);
-      // The leaf search reads every tile a few times: its result is kept for reruns of this
-      // config on these tiles (the file goes with the tiles when they are written anew).
-      const std::string cache = dir + "/analysis", key = fingerprint + "\n--\nsamplings 2\n";
-      std::string text = readText(cache);
-      bool cached = false;
-      if (text.rfind(key, 0) == 0) {
-        try {
-          text = text.substr(key.size());
-          samplings = tileSamplings(config, manifest, manifest.tree(), tiles_dir, false);
-          readSamplings(text, samplings);
-          cached = true;
-        } catch (const YAML::Exception&) {
-          // a damaged cache: counted again below
-        }
-      }
-      if (!cached) {
-        samplings = tileSamplings(config, manifest, manifest.tree(), tiles_dir, true);
-        text = samplingsText(samplings);
-        writeAtomically(cache, key + text);
-      }
+      writeAtomically(cache, key + text);
       // Runs of another config (or another analysis density) are not reused.
       fingerprint += "\n" + text;
       fs::create_directories(runs_dir);
@@ -445,29 +531,46 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
     }
   }
   work.shareFailure(failure);
-  if (!work.leader()) {  // the leader's choice, read back (no second count)
+  if (samplings.empty() || !work.leader()) {  // the leader's choice, read back (no second count)
     samplings = tileSamplings(config, manifest, manifest.tree(), tiles_dir, false);
-    readSamplings(readText(runs_dir + "/analysis"), samplings);
+    readSamplings(text, samplings);
   }
+  serial.emplace_back("analysis files", seconds(phase_start));
 
   // 2. The tiles' runs: the unchanged pipeline on each tile, its report in the tile's directory.
   // Tiles are independent: a process runs as many at a time as it has threads, each tile on one
   // thread (more than one when fewer tiles than threads are left). Whole tiles in parallel use
   // the cores better than one tile's stages do, and the outputs do not depend on the threads.
   const auto tiles_start = std::chrono::steady_clock::now();
-  // Which tile runs verify: read and digested once, by the leader, and shared with the ranks
-  // ('1': done), not once by every rank and again by the worker that takes the tile.
+  // Which tile runs verify ('1': done): each rank reads and digests its share of the tiles, and
+  // what they found is shared, not read once by every rank and again by the worker that takes
+  // the tile.
   std::string verified(manifest.tiles.size(), '0');
-  if (work.leader())
-    for (std::size_t t = 0; t < manifest.tiles.size(); ++t) {
-      std::string why;
-      if (tileDone(runs_dir + "/" + manifest.tiles[t].name(), why))
-        verified[t] = '1';
-      else if (!why.empty())
-        report << "tiling: " << manifest.tiles[t].name() << "'s run does not verify (" << why
-               << "); running it again\n";
+  {
+    std::string mine;
+    work.together([&] {
+      for (std::size_t t = static_cast<std::size_t>(work.rank()); t < manifest.tiles.size();
+           t += static_cast<std::size_t>(work.ranks())) {
+        std::string why;
+        const bool done = tileDone(runs_dir + "/" + manifest.tiles[t].name(), why);
+        mine += done ? '1' : '0';
+        packText(mine, done ? "" : why);
+      }
+    });
+    const std::vector<std::string> all = work.allGather(mine);
+    for (std::size_t r = 0; r < all.size(); ++r) {
+      Unpack in(all[r]);
+      for (std::size_t t = r; t < manifest.tiles.size(); t += all.size()) {
+        verified[t] = in.next<char>();
+        const std::string why = in.text();
+        if (!why.empty())
+          report << "tiling: " << manifest.tiles[t].name() << "'s run does not verify (" << why
+                 << "); running it again\n";
+      }
     }
-  verified = work.broadcast(verified);
+  }
+  shared.emplace_back("verifying tile runs", seconds(tiles_start));
+  const auto runs_start = std::chrono::steady_clock::now();
   const auto to_run = static_cast<std::size_t>(std::count(verified.begin(), verified.end(), '0'));
   const int threads = resolveThreads(config.settings.threads);
   const int workers =
@@ -520,38 +623,48 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   }
   work.shareFailure(failure);
   const std::size_t ran_total = work.sum(ran.load());
+  shared.emplace_back("tile runs", seconds(runs_start));
   report << "tiling: " << ran_total << " tiles run, " << manifest.tiles.size() - ran_total
-         << " already done, " << std::fixed << std::setprecision(2) << seconds(tiles_start)
-         << " s\n"
+         << " already done, " << std::fixed << std::setprecision(2) << seconds(runs_start) << " s\n"
          << std::defaultfloat;
 
-  // 3. The merge, on the leader.
+  // 3. The merge, shared among the ranks (tile_merge.h); the leader writes the outputs.
   std::vector<std::string> written;
-  failure.clear();
+  const auto merge_start = std::chrono::steady_clock::now();
+  progress.begin(3, 3, "merge " + std::to_string(manifest.tiles.size()) + " tiles");
+  std::optional<OutputFiles> outputs;
+  if (work.leader()) {
+    outputs.emplace(config.output.dir);
+    outputs->protect(config.input.path);
+  }
+  const std::optional<RenderRequest> render = joined.picture();
+  MergeTimes merge_times;
+  const MergeSummary s =
+      mergeTiles(manifest, tiles_dir, runs_dir, files, render ? &*render : nullptr, threads,
+                 outputs ? &*outputs : nullptr, work, &merge_times);
+  const auto commit_start = std::chrono::steady_clock::now();
   if (work.leader()) {
     try {
-      const auto merge_start = std::chrono::steady_clock::now();
-      progress.begin(3, 3, "merge " + std::to_string(manifest.tiles.size()) + " tiles");
-      OutputFiles outputs(config.output.dir);
-      outputs.protect(config.input.path);
-      const std::optional<RenderRequest> render = joined.picture();
-      const MergeSummary s = mergeTiles(manifest, tiles_dir, runs_dir, files,
-                                        render ? &*render : nullptr, threads, outputs);
-      written = outputs.commit();
-      progress.end();
-      report << "segmentation: " << s.segments << " segments from " << s.pieces
-             << " tile segments (" << s.joins << " joins across tiles), " << s.assigned << "/"
-             << s.points << " points assigned\n";
-      report << "  merge: " << std::fixed << std::setprecision(2) << seconds(merge_start)
-             << " s, whole run " << seconds(start) << " s\n"
-             << std::defaultfloat;
-      for (const auto& path : written)
-        report << "wrote " << path << "\n";
+      written = outputs->commit();
     } catch (const std::exception& e) {
       failure = e.what();
     }
   }
   work.shareFailure(failure);
+  progress.end();
+  serial.emplace_back("merge: numbering", merge_times.segments);
+  serial.emplace_back("merge: outputs", merge_times.leader + seconds(commit_start));
+  shared.emplace_back("merge", seconds(merge_start) - merge_times.segments - merge_times.leader -
+                                   seconds(commit_start));
+  report << "segmentation: " << s.segments << " segments from " << s.pieces << " tile segments ("
+         << s.joins << " joins across tiles), " << s.assigned << "/" << s.points
+         << " points assigned\n";
+  report << "  merge: " << std::fixed << std::setprecision(2) << seconds(merge_start)
+         << " s, whole run " << seconds(start) << " s\n"
+         << std::defaultfloat;
+  report << timingText(shared, serial, work.ranks(), seconds(start));
+  for (const auto& path : written)
+    report << "wrote " << path << "\n";
   return written;
 }
 

@@ -26,6 +26,12 @@ for ranks in 2 3; do
     cmp "$work/sequential/$f" "$work/ranks$ranks/$f" ||
       { echo "FAIL: $f of $ranks ranks differs from the sequential run"; exit 1; }
   done
+  # The ranks tile together, each its share of the input's rows: the tiles are the sequential
+  # run's bytes.
+  for t in "$work/sequential/tiles/tiles/"*.ply; do
+    cmp "$t" "$work/ranks$ranks/tiles/tiles/$(basename "$t")" ||
+      { echo "FAIL: $(basename "$t") of $ranks ranks differs from the sequential run's"; exit 1; }
+  done
   # Every tile was run by some rank, once.
   done_count=$(find "$work/ranks$ranks/tiles/runs" -name done | wc -l)
   [ "$done_count" = "$tiles" ] || { echo "FAIL: $done_count of $tiles tiles done"; exit 1; }

@@ -84,8 +84,8 @@ void PositionalFile::write(std::uint64_t offset, const char* bytes, std::size_t 
     if (n < 0 && errno == EINTR)
       continue;
     if (n <= 0)
-      throw RunError("'" + path_ + "': write failed (" +
-                     (n < 0 ? std::string(std::strerror(errno)) : "disk full?") + ")");
+      throw RunError("'" + path_ + "': write failed (disk full?)" +
+                     (n < 0 ? ": " + std::string(std::strerror(errno)) : std::string()));
     bytes += n;
     size -= static_cast<std::size_t>(n);
     offset += static_cast<std::uint64_t>(n);

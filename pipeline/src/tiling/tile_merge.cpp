@@ -1,6 +1,8 @@
 #include "tile_merge.h"
 
 #include "../png_file.h"
+#include "fit_bytes.h"
+#include "packed_values.h"
 #include "ply_rows.h"
 #include "segments_las.h"
 #include "tile_job.h"
@@ -18,6 +20,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <array>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -289,13 +293,46 @@ std::map<std::int32_t, Primitive> readTileFits(const std::string& path,
 
 }  // namespace
 
+std::vector<std::size_t> mergeShares(const TilingManifest& m, int ranks) {
+  std::uint64_t all = 0;
+  for (const TileInfo& t : m.tiles)
+    all += t.core;
+  std::vector<std::size_t> first(static_cast<std::size_t>(ranks) + 1, m.tiles.size());
+  first[0] = 0;
+  std::uint64_t before = 0;  // core points of the tiles before t
+  std::size_t r = 1;
+  for (std::size_t t = 0; t < m.tiles.size(); ++t) {
+    // Tile t goes to the rank whose share of the points its first point falls in.
+    while (r <= static_cast<std::size_t>(ranks) - 1 &&
+           before >=
+               all / static_cast<std::uint64_t>(ranks) * r +
+                   all % static_cast<std::uint64_t>(ranks) * r / static_cast<std::uint64_t>(ranks))
+      first[r++] = t;
+    before += m.tiles[t].core;
+  }
+  while (r <= static_cast<std::size_t>(ranks) - 1)
+    first[r++] = m.tiles.size();
+  return first;
+}
+
 MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
                         const std::string& runs_dir, const JoinedAcrossTiles::Files& files,
-                        const RenderRequest* render, int workers, OutputFiles& outputs) {
+                        const RenderRequest* render, int workers, OutputFiles* outputs,
+                        WorkDistribution& work, MergeTimes* times) {
   const std::string& segments_name = files.segments;
   const std::string& report_name = files.report;
   const std::size_t tiles = m.tiles.size();
   const auto dirOf = [&](std::size_t t) { return runs_dir + "/" + m.tiles[t].name(); };
+  const auto clock = [] { return std::chrono::steady_clock::now(); };
+  const auto since = [](auto start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  MergeTimes spent;
+  // This rank's tiles: a run of them holding its share of the points.
+  const std::vector<std::size_t> shares = mergeShares(m, work.ranks());
+  const std::size_t mine_first = shares[static_cast<std::size_t>(work.rank())];
+  const std::size_t mine_end = shares[static_cast<std::size_t>(work.rank()) + 1];
+  const std::size_t mine = mine_end - mine_first;
   // The tiles by the grid tile they lie in: a tile's buffer reaches only into the grid tiles
   // around its own (buffer < size / 2).
   const TileTree tree = m.tree();
@@ -319,73 +356,122 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
     return after;
   };
 
-  // The pieces: every tile's segments, numbered tile after tile.
+  // 1. Each rank reads its tiles: their segments (the pieces), the points they own, the rows a
+  // run removed (a crop), and the joins of each with its neighbours after it; what every rank
+  // found is shared with all.
+  auto start = clock();
   std::vector<std::vector<TileSegment>> pieces(tiles);
-  std::vector<std::size_t> first(tiles + 1, 0);
-  // The pieces' own fits, relative to the merge's origin (the refits' frame).
-  const Eigen::Vector3d origin = globalShift(Eigen::Vector3d(m.lo[0], m.lo[1], m.lo[2]),
-                                             Eigen::Vector3d(m.hi[0], m.hi[1], m.hi[2]));
-  std::vector<std::map<std::int32_t, Primitive>> fits(tiles);
-  forEachOnWorkers(tiles, workers, [&](std::size_t t) {
-    pieces[t] = readTileSegments(dirOf(t));
-    fits[t] = readTileFits(dirOf(t) + "/" + report_name, origin);
+  std::vector<std::uint64_t> owned(tiles);
+  std::vector<std::vector<std::uint64_t>> removed(tiles);
+  std::vector<std::vector<std::array<std::int64_t, 3>>> joins(tiles);  // (label, tile, label)
+  work.together([&] {
+    forEachOnWorkers(mine, workers, [&](std::size_t k) {
+      const std::size_t t = mine_first + k;
+      pieces[t] = readTileSegments(dirOf(t));
+      const TileLabels here = readTileLabels(dirOf(t));
+      owned[t] = here.owned;
+      if (owned[t] > m.tiles[t].core)
+        throw RunError("'" + dirOf(t) + "/" + segments_name + "': " + std::to_string(owned[t]) +
+                       " points owned, the tile owns " + std::to_string(m.tiles[t].core));
+      if (owned[t] < m.tiles[t].core)
+        removed[t] = removedRows(tiles_dir + "/" + m.tiles[t].name() + ".ply",
+                                 dirOf(t) + "/" + segments_name);
+      std::vector<int> types_here;
+      for (const TileSegment& s : pieces[t])
+        types_here.push_back(s.type);
+      for (const std::size_t u : neighboursAfter(t)) {
+        const TileLabels there = readTileLabels(dirOf(u));
+        std::vector<int> types_there;
+        for (const TileSegment& s : readTileSegments(dirOf(u)))
+          types_there.push_back(s.type);
+        OverlapCounts counts;
+        try {
+          counts = countOverlap(here.rows, here.labels, there.rows, there.labels);
+        } catch (const std::invalid_argument& e) {
+          throw RunError("tiles '" + dirOf(t) + "' and '" + dirOf(u) + "': " + e.what());
+        }
+        for (const auto& [a, b] : segmentsToJoin(counts, types_here, types_there))
+          joins[t].push_back({a, static_cast<std::int64_t>(u), b});
+      }
+    });
   });
+  {
+    std::string bytes;
+    for (std::size_t t = mine_first; t < mine_end; ++t) {
+      pack(bytes, owned[t]);
+      pack(bytes, static_cast<std::uint64_t>(pieces[t].size()));
+      for (const TileSegment& s : pieces[t]) {
+        pack(bytes, s.type);
+        pack(bytes, s.core_points);
+        pack(bytes, s.inlier_distance);
+        packText(bytes, s.seed_slippage_type);
+      }
+      pack(bytes, static_cast<std::uint64_t>(removed[t].size()));
+      for (const std::uint64_t row : removed[t])
+        pack(bytes, row);
+      pack(bytes, static_cast<std::uint64_t>(joins[t].size()));
+      for (const auto& j : joins[t])
+        for (const std::int64_t v : j)
+          pack(bytes, v);
+    }
+    const std::vector<std::string> all =
+        work.ranks() == 1 ? std::vector<std::string>{} : work.allGather(bytes);
+    for (std::size_t r = 0; r < all.size(); ++r) {
+      if (static_cast<int>(r) == work.rank())
+        continue;
+      Unpack in(all[r]);
+      for (std::size_t t = shares[r]; t < shares[r + 1]; ++t) {
+        owned[t] = in.next<std::uint64_t>();
+        pieces[t].resize(static_cast<std::size_t>(in.next<std::uint64_t>()));
+        for (TileSegment& s : pieces[t]) {
+          s.type = in.next<int>();
+          s.core_points = in.next<std::uint64_t>();
+          s.inlier_distance = in.next<double>();
+          s.seed_slippage_type = in.text();
+        }
+        removed[t].resize(static_cast<std::size_t>(in.next<std::uint64_t>()));
+        for (std::uint64_t& row : removed[t])
+          row = in.next<std::uint64_t>();
+        joins[t].resize(static_cast<std::size_t>(in.next<std::uint64_t>()));
+        for (auto& j : joins[t])
+          for (std::int64_t& v : j)
+            v = in.next<std::int64_t>();
+      }
+    }
+  }
+  spent.joins = since(start);
+
+  // 2. The segments of the whole cloud, on every rank alike (the pieces and joins are small):
+  // the sets that own points, largest first (as an untiled run numbers them), ties by their
+  // first piece.
+  start = clock();
+  std::vector<std::size_t> first(tiles + 1, 0);
   for (std::size_t t = 0; t < tiles; ++t)
     first[t + 1] = first[t] + pieces[t].size();
   DisjointSets sets(first[tiles]);
   MergeSummary summary;
-
-  // Joins across each pair of neighbouring tiles (each pair once).
-  const auto typesOf = [&](std::size_t t) {
-    std::vector<int> types;
-    for (const TileSegment& s : pieces[t])
-      types.push_back(s.type);
-    return types;
-  };
-  // Each tile against its neighbours after it, tiles side by side; the joins are applied in
-  // tile order (the sets' representatives do not depend on it).
-  std::vector<std::uint64_t> owned(tiles);
-  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> joins(tiles);
-  forEachOnWorkers(tiles, workers, [&](std::size_t t) {
-    const TileLabels here = readTileLabels(dirOf(t));
-    owned[t] = here.owned;
-    for (const std::size_t u : neighboursAfter(t)) {
-      const TileLabels there = readTileLabels(dirOf(u));
-      OverlapCounts counts;
-      try {
-        counts = countOverlap(here.rows, here.labels, there.rows, there.labels);
-      } catch (const std::invalid_argument& e) {
-        throw RunError("tiles '" + dirOf(t) + "' and '" + dirOf(u) + "': " + e.what());
-      }
-      for (const auto& [a, b] : segmentsToJoin(counts, typesOf(t), typesOf(u)))
-        joins[t].emplace_back(first[t] + static_cast<std::size_t>(a),
-                              first[u] + static_cast<std::size_t>(b));
-    }
-  });
-  for (const auto& pairs : joins)
-    for (const auto& [a, b] : pairs) {
-      sets.join(a, b);
+  // The joins are applied in tile order (the sets' representatives do not depend on it).
+  for (std::size_t t = 0; t < tiles; ++t)
+    for (const auto& [a, u, b] : joins[t]) {
+      sets.join(first[t] + static_cast<std::size_t>(a),
+                first[static_cast<std::size_t>(u)] + static_cast<std::size_t>(b));
       ++summary.joins;
     }
-
-  // The segments of the whole cloud: the sets that own points, largest first (as an untiled
-  // run numbers them), ties by their first piece.
+  joins.clear();
   std::map<std::size_t, Joined> by_root;
+  std::map<std::size_t, std::size_t> first_tile_of_root;  // the lowest tile of a piece
   for (std::size_t t = 0; t < tiles; ++t)
     for (std::size_t l = 0; l < pieces[t].size(); ++l) {
       const TileSegment& s = pieces[t][l];
       if (s.core_points == 0)
         continue;
-      Joined& j = by_root[sets.find(first[t] + l)];
+      const std::size_t root = sets.find(first[t] + l);
+      Joined& j = by_root[root];
+      first_tile_of_root.emplace(root, t);
       // The type of the largest piece; the widest tolerance of any piece.
       if (j.type < 0 || s.core_points > j.core_points) {
         j.type = s.type;
         j.seed_slippage_type = s.seed_slippage_type;
-      }
-      const auto own = fits[t].find(static_cast<std::int32_t>(l));
-      if (own != fits[t].end() && s.core_points > j.start_points) {
-        j.start = own->second;
-        j.start_points = s.core_points;
       }
       j.core_points += s.core_points;
       j.inlier_distance = std::max(j.inlier_distance, s.inlier_distance);
@@ -399,10 +485,14 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
     return by_root[a].core_points > by_root[b].core_points;
   });
   std::vector<Joined> joined(roots.size());
+  std::vector<int> refitter(roots.size());  // the rank that refits each segment
   std::map<std::size_t, std::int32_t> id_of_root;
   for (std::size_t k = 0; k < roots.size(); ++k) {
     joined[k] = std::move(by_root[roots[k]]);
     id_of_root[roots[k]] = static_cast<std::int32_t>(k);
+    const std::size_t t = first_tile_of_root.at(roots[k]);
+    refitter[k] =
+        static_cast<int>(std::upper_bound(shares.begin(), shares.end(), t) - shares.begin()) - 1;
   }
   by_root.clear();
   // Each tile's labels → the whole cloud's (−1: a piece that owns no point).
@@ -416,44 +506,79 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
                ? -1
                : global[t][static_cast<std::size_t>(label)];
   };
+  const auto refitHere = [&](std::int32_t g) {
+    return g >= 0 && refitter[static_cast<std::size_t>(g)] == work.rank();
+  };
+  spent.segments = since(start);
 
-  // Refits on the union of the pieces' samples, each segment as soon as its last piece is read.
-  for (std::size_t t = 0; t < tiles; ++t) {
-    const TileSamples s = readTileSamples(dirOf(t));
-    for (std::size_t k = 0; k < s.labels.size(); ++k) {
-      const std::int32_t g = idOf(t, s.labels[k]);
-      if (g < 0)
+  // 3. Refits on the union of the pieces' samples: each segment by the rank of its first tile,
+  // as soon as its last piece is read (the tiles in order, as one process reads them); the fits
+  // are shared with every rank. The refit starts from the fit of the segment's largest piece
+  // where its closed form fails.
+  start = clock();
+  const Eigen::Vector3d origin = globalShift(Eigen::Vector3d(m.lo[0], m.lo[1], m.lo[2]),
+                                             Eigen::Vector3d(m.hi[0], m.hi[1], m.hi[2]));
+  work.together([&] {
+    for (std::size_t t = 0; t < tiles; ++t) {
+      bool needed = false;
+      for (std::size_t l = 0; l < pieces[t].size(); ++l)
+        needed = needed || refitHere(idOf(t, static_cast<std::int32_t>(l)));
+      if (!needed)
         continue;
-      auto& v = joined[static_cast<std::size_t>(g)].samples;
-      const auto c = static_cast<Eigen::Index>(k);
-      v.insert(v.end(), {s.points(0, c), s.points(1, c), s.points(2, c), s.normals(0, c),
-                         s.normals(1, c), s.normals(2, c), s.weights[k]});
+      const std::map<std::int32_t, Primitive> fits =
+          readTileFits(dirOf(t) + "/" + report_name, origin);
+      for (std::size_t l = 0; l < pieces[t].size(); ++l) {
+        const std::int32_t g = idOf(t, static_cast<std::int32_t>(l));
+        if (!refitHere(g))
+          continue;
+        Joined& j = joined[static_cast<std::size_t>(g)];
+        const auto own = fits.find(static_cast<std::int32_t>(l));
+        if (own != fits.end() && pieces[t][l].core_points > j.start_points) {
+          j.start = own->second;
+          j.start_points = pieces[t][l].core_points;
+        }
+      }
+      const TileSamples s = readTileSamples(dirOf(t));
+      for (std::size_t k = 0; k < s.labels.size(); ++k) {
+        const std::int32_t g = idOf(t, s.labels[k]);
+        if (!refitHere(g))
+          continue;
+        auto& v = joined[static_cast<std::size_t>(g)].samples;
+        const auto c = static_cast<Eigen::Index>(k);
+        v.insert(v.end(), {s.points(0, c), s.points(1, c), s.points(2, c), s.normals(0, c),
+                           s.normals(1, c), s.normals(2, c), s.weights[k]});
+      }
+      std::vector<std::size_t> complete;
+      for (std::size_t l = 0; l < pieces[t].size(); ++l) {
+        const std::int32_t g = idOf(t, static_cast<std::int32_t>(l));
+        if (refitHere(g) && --joined[static_cast<std::size_t>(g)].pieces_left == 0)
+          complete.push_back(static_cast<std::size_t>(g));
+      }
+      forEachOnWorkers(complete.size(), workers,
+                       [&](std::size_t k) { refit(joined[complete[k]], origin); });
     }
-    std::vector<std::size_t> complete;
-    for (std::size_t l = 0; l < pieces[t].size(); ++l) {
-      const std::int32_t g = idOf(t, static_cast<std::int32_t>(l));
-      if (g >= 0 && --joined[static_cast<std::size_t>(g)].pieces_left == 0)
-        complete.push_back(static_cast<std::size_t>(g));
-    }
-    forEachOnWorkers(complete.size(), workers,
-                     [&](std::size_t k) { refit(joined[complete[k]], origin); });
-  }
-
-  // segments.ply: each tile's own points, with the whole cloud's labels and colours, in the
-  // input's order. The rows have one size and each point's place in the file is its tile_row
-  // (its row among the input's finite points) less the rows before it that a tile's run removed
-  // (a crop): tiles are written side by side, each point at its place (pwrite), and each tile's
-  // sums are kept apart and added in tile order.
-  std::uint64_t total = 0;
-  std::vector<std::vector<std::uint64_t>> removed(tiles);
-  forEachOnWorkers(tiles, workers, [&](std::size_t t) {
-    if (owned[t] > m.tiles[t].core)
-      throw RunError("'" + dirOf(t) + "/" + segments_name + "': " + std::to_string(owned[t]) +
-                     " points owned, the tile owns " + std::to_string(m.tiles[t].core));
-    if (owned[t] < m.tiles[t].core)
-      removed[t] =
-          removedRows(tiles_dir + "/" + m.tiles[t].name() + ".ply", dirOf(t) + "/" + segments_name);
   });
+  if (work.ranks() > 1) {
+    std::string bytes;
+    for (std::size_t g = 0; g < joined.size(); ++g)
+      if (refitter[g] == work.rank())
+        packFit(bytes, joined[g].fit);
+    const std::vector<std::string> all = work.allGather(bytes);
+    std::vector<Unpack> in;
+    for (const std::string& b : all)
+      in.emplace_back(b);
+    for (std::size_t g = 0; g < joined.size(); ++g)
+      joined[g].fit = unpackFit(in[static_cast<std::size_t>(refitter[g])]);
+  }
+  spent.refits = since(start);
+
+  // 4. segments.ply: each tile's own points, with the whole cloud's labels and colours, in the
+  // input's order, each rank its tiles. The rows have one size and each point's place in the
+  // file is its tile_row (its row among the input's finite points) less the rows before it that
+  // a tile's run removed (a crop): tiles are written side by side, each point at its place
+  // (pwrite), and each tile's sums are kept apart and added in tile order by the leader.
+  start = clock();
+  std::uint64_t total = 0;
   std::vector<std::uint64_t> missing;
   for (std::size_t t = 0; t < tiles; ++t) {
     total += owned[t];
@@ -464,23 +589,31 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
   // The picture's points: every k-th point written, relative to the origin (float keeps them).
   const std::uint64_t every =
       std::max<std::uint64_t>(1, (total + kRenderedPoints - 1) / kRenderedPoints);
-  std::vector<TileRows> written(tiles);
+  std::vector<StreamField> fields;
   std::string merged;  // the temporary path of segments.ply until the outputs are committed
-  outputs.add(segments_name, [&](const std::string& path) {
-    merged = path;
-    const std::vector<StreamField> fields = withoutFields(
-        CloudStream(dirOf(0) + "/" + segments_name).fields(), {"tile_row", "tile_core"});
-    const std::string header = plyHeader(fields, total);
-    {
+  work.together([&] {
+    fields = withoutFields(CloudStream(dirOf(0) + "/" + segments_name).fields(),
+                           {"tile_row", "tile_core"});
+    if (!outputs)
+      return;
+    outputs->add(segments_name, [&](const std::string& path) {
+      merged = path;
+      const std::string header = plyHeader(fields, total);
       std::ofstream out(path, std::ios::binary | std::ios::trunc);
       writeOrFail(out, header.data(), header.size(), path);
       out.close();
       if (!out)
         throw RunError("'" + path + "': write failed (disk full?)");
-    }
-    PositionalFile file(path);
-    forEachOnWorkers(tiles, workers, [&](std::size_t t) {
-      written[t] = writeTileRows(dirOf(t) + "/" + segments_name, fields, file, header.size(), total,
+    });
+  });
+  merged = work.broadcast(merged);
+  const std::uint64_t header_bytes = plyHeader(fields, total).size();
+  std::vector<TileRows> written(tiles);
+  work.together([&] {
+    PositionalFile file(merged);
+    forEachOnWorkers(mine, workers, [&](std::size_t k) {
+      const std::size_t t = mine_first + k;
+      written[t] = writeTileRows(dirOf(t) + "/" + segments_name, fields, file, header_bytes, total,
                                  missing, every, render != nullptr, origin, global[t], joined);
       if (written[t].points != owned[t])
         throw RunError("'" + dirOf(t) + "/" + segments_name +
@@ -489,9 +622,68 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
     });
     file.close();
   });
+  if (work.ranks() > 1) {
+    std::string bytes;
+    for (std::size_t t = mine_first; t < mine_end; ++t) {
+      const TileRows& w = written[t];
+      pack(bytes, w.points);
+      pack(bytes, w.assigned);
+      pack(bytes, static_cast<std::uint64_t>(w.distances.size()));
+      for (const auto& [g, d] : w.distances) {
+        pack(bytes, g);
+        pack(bytes, d.sum_squares);
+        pack(bytes, d.max_distance);
+        pack(bytes, d.inliers);
+      }
+      pack(bytes, static_cast<std::uint64_t>(w.picture_colours.size()));
+      bytes.append(reinterpret_cast<const char*>(w.picture_points.data()),
+                   w.picture_points.size() * sizeof(float));
+      bytes.append(reinterpret_cast<const char*>(w.picture_normals.data()),
+                   w.picture_normals.size() * sizeof(float));
+      bytes.append(reinterpret_cast<const char*>(w.picture_colours.data()),
+                   w.picture_colours.size());
+    }
+    const std::vector<std::string> all = work.gather(bytes);
+    for (std::size_t r = 0; r < all.size(); ++r) {
+      if (static_cast<int>(r) == work.rank())
+        continue;
+      Unpack in(all[r]);
+      for (std::size_t t = shares[r]; t < shares[r + 1]; ++t) {
+        TileRows& w = written[t];
+        w.points = in.next<std::uint64_t>();
+        w.assigned = in.next<std::uint64_t>();
+        for (auto n = in.next<std::uint64_t>(); n > 0; --n) {
+          Distances& d = w.distances[in.next<std::int32_t>()];
+          d.sum_squares = in.next<double>();
+          d.max_distance = in.next<double>();
+          d.inliers = in.next<std::uint64_t>();
+        }
+        const auto values = static_cast<std::size_t>(in.next<std::uint64_t>());
+        w.picture_points.resize(values);
+        w.picture_normals.resize(values);
+        w.picture_colours.resize(values);
+        for (float& v : w.picture_points)
+          v = in.next<float>();
+        for (float& v : w.picture_normals)
+          v = in.next<float>();
+        for (std::uint8_t& v : w.picture_colours)
+          v = in.next<std::uint8_t>();
+      }
+    }
+  }
+  spent.rows = since(start);
+  summary.segments = joined.size();
+  if (!outputs) {  // the leader reports and writes the rest
+    if (times)
+      *times = spent;
+    return summary;
+  }
+
+  // 5. The leader: the sums in tile order, the LAS file, the picture and primitives.yaml.
+  start = clock();
   if (!files.las.empty())
-    outputs.add(files.las,
-                [&](const std::string& path) { writeSegmentsLas(merged, m.input, path); });
+    outputs->add(files.las,
+                 [&](const std::string& path) { writeSegmentsLas(merged, m.input, path); });
   std::vector<float> picture_points, picture_normals;
   std::vector<std::uint8_t> picture_colours;
   for (const TileRows& w : written) {
@@ -533,7 +725,7 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
           segmentLegend(types, points, static_cast<std::size_t>(summary.points - summary.assigned)),
           legendScale(camera.height), kLegendRows);
     }
-    outputs.add(render->name, [&](const std::string& path) {
+    outputs->add(render->name, [&](const std::string& path) {
       detail::writeRgbPng(path, image, camera.width, camera.height);
     });
   }
@@ -555,8 +747,10 @@ MergeSummary mergeTiles(const TilingManifest& m, const std::string& tiles_dir,
       r.extra["seed_slippage_type"] = j.seed_slippage_type;
     records.push_back(std::move(r));
   }
-  outputs.addText(report_name, primitivesYaml(records, "slipfit segmentation", origin));
-  summary.segments = joined.size();
+  outputs->addText(report_name, primitivesYaml(records, "slipfit segmentation", origin));
+  spent.leader = since(start);
+  if (times)
+    *times = spent;
   return summary;
 }
 

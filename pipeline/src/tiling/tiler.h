@@ -1,11 +1,14 @@
 #pragma once
 /// \file Streaming a cloud into tiles (tile_grid.h): two reads of the input by row ranges
-/// (CloudStream), one to count each tile's points, one to write them; memory is bounded by the
-/// write buffers, whatever the size of the cloud. Each tile is a binary PLY of the input's
-/// fields plus `tile_row` (the point's row among the input's points with finite coordinates, its
-/// row in segments.ply: the input's row when none is dropped; exact as a double up to 2^53) and
-/// `tile_core`: 0 where a neighbour owns the point, 1 where this tile owns it alone, 2 where it
-/// owns it and a neighbour holds it too (the shared points that the merge compares).
+/// (CloudStream), one to count each tile's points, one to write them, shared among the ranks of a
+/// run; memory is bounded by the write buffers, whatever the size of the cloud. Each tile is a
+/// binary PLY of the input's fields plus `tile_row` (the point's row among the input's points with
+/// finite coordinates, its row in segments.ply: the input's row when none is dropped; exact as a
+/// double up to 2^53) and `tile_core`: 0 where a neighbour owns the point, 1 where this tile owns
+/// it alone, 2 where it owns it and a neighbour holds it too (the shared points that the merge
+/// compares).
+
+#include "work_distribution.h"
 
 #include "slipfit/pipeline/cloud_io.h"
 #include "slipfit/tiling/tile_grid.h"
@@ -59,6 +62,10 @@ struct TilingManifest {
 void inputStamp(const std::string& path, std::uint64_t& bytes, std::int64_t& mtime);
 
 /// Writes the tiles of \a input into \a dir (created) and returns the manifest (not yet saved).
+/// With \a work, its ranks tile together (a collective call): each reads its share of the rows, a
+/// contiguous range, their counts are added up, and each writes its rows of every tile at the
+/// place the ranks before it leave; the tiles are the bytes one process writes, and every rank
+/// returns the manifest. A failure on any rank is thrown on every rank.
 /// A tile of \a grid whose core holds more than \a max_points points (0: no limit) is split into
 /// quarters, and those again, while they stay wider than twice the buffer (tile_tree.h); each
 /// split costs one more read of the input. \a progress(done, total) is called as rows are read
@@ -69,7 +76,8 @@ void inputStamp(const std::string& path, std::uint64_t& bytes, std::int64_t& mti
 /// write.
 TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGrid& grid,
                           std::uint64_t max_points, const std::string& dir,
-                          const std::function<void(std::uint64_t, std::uint64_t)>& progress);
+                          const std::function<void(std::uint64_t, std::uint64_t)>& progress,
+                          WorkDistribution* work = nullptr);
 
 /// tiling.size: auto, and what it was chosen from.
 struct AutoTileSize {
@@ -85,11 +93,13 @@ struct AutoTileSize {
 /// bounding box (w × d, d ≤ w): e² = w d target / N while e ≤ d, and past it, where a tile covers
 /// e × d, e = w target / N (points along a line included); at least four times \a buffer when
 /// one is given (so that a tile can be split once); rounded up to 1, 2 or 5 times a power of
-/// ten. Denser parts than the mean are left to the splits of max_points. Reads the input once;
-/// throws RunError as writeTiles does for unreadable input, and when no point is finite.
+/// ten. Denser parts than the mean are left to the splits of max_points. Reads the input once
+/// (with \a work, shared among its ranks as writeTiles does); throws RunError as writeTiles does
+/// for unreadable input, and when no point is finite.
 AutoTileSize autoTileSize(const std::string& input, NanPolicy nan, std::uint64_t target,
                           double buffer,
-                          const std::function<void(std::uint64_t, std::uint64_t)>& progress);
+                          const std::function<void(std::uint64_t, std::uint64_t)>& progress,
+                          WorkDistribution* work = nullptr);
 
 /// \a edge rounded up to 1, 2 or 5 times a power of ten.
 double roundUpToOneTwoFive(double edge);

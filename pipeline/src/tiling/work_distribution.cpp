@@ -4,6 +4,7 @@
 
 #include "slipfit/pipeline/errors.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <vector>
 
@@ -112,6 +113,71 @@ std::string WorkDistribution::broadcast(const std::string& text) {
   return std::string(buffer.begin(), buffer.end());
 }
 
+std::vector<std::string> WorkDistribution::gather(const std::string& text) {
+  if (size_ == 1)
+    return {text};
+  const auto length = static_cast<long long>(text.size());
+  std::vector<long long> lengths(static_cast<std::size_t>(size_));
+  MPI_Gather(&length, 1, MPI_LONG_LONG, lengths.data(), 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+  constexpr long long kPiece = 1LL << 30;  // MPI counts are int
+  if (rank_ != 0) {
+    for (long long at = 0; at < length; at += kPiece)
+      MPI_Send(text.data() + at, static_cast<int>(std::min(kPiece, length - at)), MPI_CHAR, 0, 0,
+               MPI_COMM_WORLD);
+    return {};
+  }
+  std::vector<std::string> all(static_cast<std::size_t>(size_));
+  all[0] = text;
+  for (int r = 1; r < size_; ++r) {
+    std::string& t = all[static_cast<std::size_t>(r)];
+    t.assign(static_cast<std::size_t>(lengths[static_cast<std::size_t>(r)]), '\0');
+    for (long long at = 0; at < lengths[static_cast<std::size_t>(r)]; at += kPiece)
+      MPI_Recv(t.data() + at,
+               static_cast<int>(std::min(kPiece, lengths[static_cast<std::size_t>(r)] - at)),
+               MPI_CHAR, r, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  }
+  return all;
+}
+
+std::vector<std::string> WorkDistribution::allGather(const std::string& text) {
+  if (size_ == 1)
+    return {text};
+  const auto length = static_cast<long long>(text.size());
+  std::vector<long long> lengths(static_cast<std::size_t>(size_));
+  MPI_Allgather(&length, 1, MPI_LONG_LONG, lengths.data(), 1, MPI_LONG_LONG, MPI_COMM_WORLD);
+  // Each rank's text in pieces of at most 1 GiB (MPI counts are int).
+  constexpr long long kPiece = 1LL << 30;
+  std::vector<std::string> all(static_cast<std::size_t>(size_));
+  for (int r = 0; r < size_; ++r) {
+    std::string& t = all[static_cast<std::size_t>(r)];
+    t = r == rank_ ? text : std::string(static_cast<std::size_t>(lengths[r]), '\0');
+    for (long long at = 0; at < lengths[r]; at += kPiece)
+      MPI_Bcast(t.data() + at, static_cast<int>(std::min(kPiece, lengths[r] - at)), MPI_CHAR, r,
+                MPI_COMM_WORLD);
+  }
+  return all;
+}
+
+std::vector<std::uint64_t> WorkDistribution::sumBefore(const std::vector<std::uint64_t>& values) {
+  std::vector<std::uint64_t> before(values.size(), 0);
+  if (size_ == 1 || values.empty())
+    return before;
+  MPI_Exscan(values.data(), before.data(), static_cast<int>(values.size()), MPI_UINT64_T, MPI_SUM,
+             MPI_COMM_WORLD);
+  if (rank_ == 0)  // MPI_Exscan leaves the first rank's result undefined
+    std::fill(before.begin(), before.end(), 0);
+  return before;
+}
+
+std::vector<std::uint64_t> WorkDistribution::sumEach(const std::vector<std::uint64_t>& values) {
+  if (size_ == 1 || values.empty())
+    return values;
+  std::vector<std::uint64_t> total(values.size(), 0);
+  MPI_Allreduce(values.data(), total.data(), static_cast<int>(values.size()), MPI_UINT64_T, MPI_SUM,
+                MPI_COMM_WORLD);
+  return total;
+}
+
 #else  // one process
 
 WorkDistribution::WorkDistribution() = default;
@@ -134,7 +200,37 @@ std::string WorkDistribution::broadcast(const std::string& text) {
   return text;
 }
 
+std::vector<std::string> WorkDistribution::gather(const std::string& text) {
+  return {text};
+}
+
+std::vector<std::string> WorkDistribution::allGather(const std::string& text) {
+  return {text};
+}
+
+std::vector<std::uint64_t> WorkDistribution::sumBefore(const std::vector<std::uint64_t>& values) {
+  return std::vector<std::uint64_t>(values.size(), 0);
+}
+
+std::vector<std::uint64_t> WorkDistribution::sumEach(const std::vector<std::uint64_t>& values) {
+  return values;
+}
+
 #endif
+
+void WorkDistribution::together(const std::function<void()>& local) {
+  if (size_ == 1) {
+    local();
+    return;
+  }
+  std::string failure;
+  try {
+    local();
+  } catch (const std::exception& e) {
+    failure = e.what();
+  }
+  shareFailure(failure);
+}
 
 void WorkDistribution::forEachTile(std::size_t n, int workers,
                                    const std::function<void(std::size_t)>& run) {
