@@ -87,6 +87,43 @@ done_before=$(sed -n 's/^tiling: [0-9]* tiles run, \([0-9]*\) already done.*/\1/
 for f in segments.ply primitives.yaml; do
   cmp "$work/sequential/$f" "$killed/$f" || { echo "FAIL: resumed $f differs"; exit 1; }
 done
-echo "PASS: $tiles tiles; 2 and 3 ranks wrote the sequential run's bytes; ranks of another" \
+# The ranks share the reading of the input: tiling.size: auto's read, and a failure in one
+# rank's rows. On 3 ranks the auto size and its outputs are the sequential run's; a non-finite
+# coordinate in the last rank's rows under input.nan: error is the sequential run's one line on
+# every rank's behalf, and nothing is written.
+"$slipfit" "${run[@]}" --set output.dir="$work/auto1" --set tiling.size=auto \
+  --set tiling.max_points=20000
+"$mpiexec" "${as_root[@]}" --oversubscribe -np 3 "$slipfit" "${run[@]}" \
+  --set output.dir="$work/auto3" --set tiling.size=auto --set tiling.max_points=20000
+for f in segments.ply primitives.yaml; do
+  cmp "$work/auto1/$f" "$work/auto3/$f" ||
+    { echo "FAIL: $f of tiling.size=auto on 3 ranks differs from the sequential run"; exit 1; }
+done
+cmp "$work/auto1/tiles/manifest.yaml" "$work/auto3/tiles/manifest.yaml" ||
+  { echo "FAIL: the auto tiling's manifest differs on 3 ranks"; exit 1; }
+nan=$work/nan.ply
+{
+  printf 'ply\nformat ascii 1.0\nelement vertex 3000\nproperty float x\nproperty float y\n'
+  printf 'property float z\nend_header\n'
+  for i in $(seq 0 2999); do
+    if [ "$i" = 2500 ]; then echo "nan 1 0"; else echo "$((i % 60)).5 $((i / 60)).5 0"; fi
+  done
+} >"$nan"
+nan_run=(run configs/demo.yaml --quiet --set input.path="$nan" --set tiling.size=20
+         --set input.nan=error --set threads=1)
+if "$slipfit" "${nan_run[@]}" --set output.dir="$work/nan1" 2>"$work/nan1.err"; then
+  echo "FAIL: a non-finite coordinate was accepted"; exit 1
+fi
+if "$mpiexec" "${as_root[@]}" --oversubscribe -np 3 "$slipfit" "${nan_run[@]}" \
+  --set output.dir="$work/nan3" >/dev/null 2>"$work/nan3.err"; then
+  echo "FAIL: a non-finite coordinate was accepted on 3 ranks"; exit 1
+fi
+grep -q "point 2500 has a non-finite coordinate" "$work/nan1.err" ||
+  { echo "FAIL: the sequential run did not name row 2500"; cat "$work/nan1.err"; exit 1; }
+grep -q "^slipfit: error: input '$nan': point 2500 has a non-finite coordinate.* (rank 2)$" \
+  "$work/nan3.err" || { echo "FAIL: 3 ranks did not name row 2500"; cat "$work/nan3.err"; exit 1; }
+[ ! -e "$work/nan3/segments.ply" ] || { echo "FAIL: segments.ply written"; exit 1; }
+echo "PASS: $tiles tiles; 2 and 3 ranks wrote the sequential run's bytes and tiles (tiling.size" \
+  "auto too); a non-finite point in rank 2's rows was refused on every rank; ranks of another" \
   "config or work directory were refused; a killed rank left no output and the rerun resumed" \
   "after $done_before tiles"

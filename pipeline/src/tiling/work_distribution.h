@@ -20,7 +20,8 @@ class WorkDistribution {
   WorkDistribution(const WorkDistribution&) = delete;
   WorkDistribution& operator=(const WorkDistribution&) = delete;
 
-  /// This process tiles, merges and reports (rank 0, or the only process).
+  /// This process claims the work directory, adds up what the ranks found and writes the outputs
+  /// (rank 0, or the only process).
   bool leader() const { return rank_ == 0; }
   int rank() const { return rank_; }
   int ranks() const { return size_; }

@@ -19,7 +19,8 @@ namespace slipfit::pipeline {
 void checkTiledRun(const PipelineConfig& config);
 
 /// Runs \a config (tiling enabled) from \a config_path with \a overrides; returns the files
-/// written (on every rank; only rank 0 writes them). Throws ConfigError for a pipeline that
+/// written (on rank 0, which names and commits them; the other ranks, which write their share of
+/// the tiles and of segments.ply's rows, return none). Throws ConfigError for a pipeline that
 /// cannot run in tiles and RunError for a failure (nothing is written then).
 std::vector<std::string> runTiled(const PipelineConfig& config,
                                   const std::vector<std::string>& overrides,
