@@ -14,6 +14,7 @@
 #include <pcl/exceptions.h>
 
 #include <iomanip>
+#include <new>
 #include <ostream>
 
 namespace slipfit::pipeline {
@@ -218,6 +219,9 @@ int runCommandLine(const std::vector<std::string>& args, std::ostream& out, std:
     return kRunFailure;
   } catch (const pcl::PCLException& e) {
     err << "slipfit: error: " << oneLine(e.what()) << "\n";
+    return kRunFailure;
+  } catch (const std::bad_alloc&) {  // outside any stage: reading the input, writing outputs
+    err << "slipfit: error: out of memory\n";
     return kRunFailure;
   } catch (const std::exception& e) {
     err << "slipfit: error: " << oneLine(e.what()) << "\n";

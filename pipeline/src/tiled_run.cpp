@@ -30,6 +30,7 @@
 #include <fstream>
 #include <iomanip>
 #include <mutex>
+#include <new>
 #include <optional>
 #include <ostream>
 #include <sstream>
@@ -610,6 +611,9 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
         summariseTile(run_dir, segments_name, report_name);
       } catch (const RunError& e) {
         throw RunError("tile " + tile.name() + ": " + e.what());
+      } catch (const std::bad_alloc&) {  // reading the tile, writing its outputs, summarising
+        throw RunError("tile " + tile.name() + ": out of memory (" + std::to_string(tile.points) +
+                       " points; a smaller tiling.max_points " + "bounds a tile's points)");
       }
       const std::size_t done = ++ran;
       const std::lock_guard<std::mutex> lock(progress_mutex);

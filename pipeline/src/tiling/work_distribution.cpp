@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <new>
 #include <vector>
 
 #ifdef SLIPFIT_WITH_MPI
@@ -226,6 +227,8 @@ void WorkDistribution::together(const std::function<void()>& local) {
   std::string failure;
   try {
     local();
+  } catch (const std::bad_alloc&) {
+    failure = "out of memory";
   } catch (const std::exception& e) {
     failure = e.what();
   }
