@@ -103,59 +103,89 @@ bool spansASurface(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
   return medianDeviation(std::move(across)) >= T::least_aspect * medianDeviation(std::move(along));
 }
 
+/// What one sampled neighborhood gives dataScale.
+struct SampleScale {
+  bool has_spacing = false;   ///< at least 5 points: its nearest-neighbor distance counts
+  bool has_variance = false;  ///< a sheet of at least 5 points: its variance estimate counts
+  bool spans = false;         ///< it spans a surface: a sample of the local noise
+  double spacing = 0.0, variance = 0.0, local_variance = 0.0;
+};
+
+/// The scale of point \a i's neighborhood (see dataScale).
+SampleScale sampleScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const NeighborView& v,
+                        std::size_t i, bool layered) {
+  SampleScale out;
+  if (v.size() < 5)
+    return out;
+  out.has_spacing = true;
+  out.spacing = std::sqrt(static_cast<double>(v.sqr_distances[1]));
+  std::vector<pcl::index_t> idx(v.begin(), v.end());
+  auto [mean, eigen] = principalFrame(points, idx);
+  if (!layered) {
+    std::vector<pcl::index_t> sheet =
+        ownSheet(points, idx, static_cast<pcl::index_t>(i), eigen.eigenvectors(),
+                 std::sqrt(static_cast<double>(v.sqr_distances[v.size() - 1])));
+    if (sheet.size() < idx.size()) {
+      if (sheet.size() < 5)
+        return out;
+      idx = std::move(sheet);
+      std::tie(mean, eigen) = principalFrame(points, idx);
+    }
+  }
+  const double k = static_cast<double>(idx.size());
+  // The noise is what a smooth surface does not explain. With k ≥ 10 points the surface is the
+  // local quadric height field (6 parameters: curvature is not noise — on sparse CAD parts the
+  // plane's residual λ₀ is the sagitta of the curved faces, not noise); with fewer, the plane
+  // (3). With Gaussian noise σ the residual sum of squares is σ² χ²_ν, ν = k − parameters. Each
+  // neighborhood's value is scaled by the lower quartile of χ²_ν / ν, so that the lower
+  // quartile over all neighborhoods estimates σ²: robust to the half of them that straddle
+  // edges (the median was not). A thin wall puts both faces in all of them: the point's own
+  // sheet is fitted (ownSheet).
+  double rss = 0.0, nu = 0.0;
+  if (idx.size() >= 10) {
+    rss = quadricResidual(points, idx, mean, eigen.eigenvectors());
+    nu = k - 6.0;
+  } else {
+    rss = std::max(0.0, eigen.eigenvalues()(0)) * k;
+    nu = k - 3.0;
+  }
+  out.has_variance = true;
+  out.variance = rss / nu / chiSquareQuantileOverDof(nu, T::noise_quantile_z);
+  // A neighborhood drawn out along a line (a LiDAR's scan line on far ground, one row of a
+  // grid, perhaps with a few points of the next row) says nothing of the noise: a sensor's
+  // noise lies along its rays, and the points of one row displaced along their rays lie on one
+  // plane (the row's cone of rays), which the height field fits. The local noise (localNoise)
+  // does not use it. Medians, not the spread: two points of the next row must not pass for a
+  // surface.
+  out.spans = spansASurface(points, idx, eigen.eigenvectors());
+  out.local_variance = rss / nu / chiSquareQuantileOverDof(nu, T::local_noise_quantile_z);
+  return out;
+}
+
 /// \a layered: the cloud's depth is recorded on levels (detectQuantizedAxis), whose layers in a
-/// neighborhood are part of its spread, not sheets of a thin wall.
+/// neighborhood are part of its spread, not sheets of a thin wall. The sampled neighborhoods are
+/// computed on \a workers threads, each into its own slot, and gathered in order: the result does
+/// not depend on the threads.
 DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neighborhoods& hoods,
-                    bool layered) {
-  std::vector<double> variance, spacing, sample_variance;
-  std::vector<pcl::index_t> sampled;
+                    bool layered, int workers) {
   const std::size_t n = hoods.size();
   const std::size_t stride = std::max<std::size_t>(1, n / T::noise_sample);
-  for (std::size_t i = 0; i < n; i += stride) {
-    const NeighborView v = hoods[i];
-    if (v.size() < 5)
-      continue;
-    spacing.push_back(std::sqrt(static_cast<double>(v.sqr_distances[1])));
-    std::vector<pcl::index_t> idx(v.begin(), v.end());
-    auto [mean, eigen] = principalFrame(points, idx);
-    if (!layered) {
-      std::vector<pcl::index_t> sheet =
-          ownSheet(points, idx, static_cast<pcl::index_t>(i), eigen.eigenvectors(),
-                   std::sqrt(static_cast<double>(v.sqr_distances[v.size() - 1])));
-      if (sheet.size() < idx.size()) {
-        if (sheet.size() < 5)
-          continue;
-        idx = std::move(sheet);
-        std::tie(mean, eigen) = principalFrame(points, idx);
-      }
-    }
-    const double k = static_cast<double>(idx.size());
-    // The noise is what a smooth surface does not explain. With k ≥ 10 points the surface is the
-    // local quadric height field (6 parameters: curvature is not noise — on sparse CAD parts the
-    // plane's residual λ₀ is the sagitta of the curved faces, not noise); with fewer, the plane
-    // (3). With Gaussian noise σ the residual sum of squares is σ² χ²_ν, ν = k − parameters. Each
-    // neighborhood's value is scaled by the lower quartile of χ²_ν / ν, so that the lower
-    // quartile over all neighborhoods estimates σ²: robust to the half of them that straddle
-    // edges (the median was not). A thin wall puts both faces in all of them: the point's own
-    // sheet is fitted (ownSheet).
-    double rss = 0.0, nu = 0.0;
-    if (idx.size() >= 10) {
-      rss = quadricResidual(points, idx, mean, eigen.eigenvectors());
-      nu = k - 6.0;
-    } else {
-      rss = std::max(0.0, eigen.eigenvalues()(0)) * k;
-      nu = k - 3.0;
-    }
-    variance.push_back(rss / nu / chiSquareQuantileOverDof(nu, T::noise_quantile_z));
-    // A neighborhood drawn out along a line (a LiDAR's scan line on far ground, one row of a
-    // grid, perhaps with a few points of the next row) says nothing of the noise: a sensor's
-    // noise lies along its rays, and the points of one row displaced along their rays lie on one
-    // plane (the row's cone of rays), which the height field fits. The local noise (localNoise)
-    // does not use it. Medians, not the spread: two points of the next row must not pass for a
-    // surface.
-    if (spansASurface(points, idx, eigen.eigenvectors())) {
-      sampled.push_back(static_cast<pcl::index_t>(i));
-      sample_variance.push_back(rss / nu / chiSquareQuantileOverDof(nu, T::local_noise_quantile_z));
+  const std::size_t m = (n + stride - 1) / stride;
+  std::vector<SampleScale> samples(m);
+#pragma omp parallel for schedule(dynamic, 256) num_threads(workers)
+  for (std::size_t j = 0; j < m; ++j)
+    samples[j] = sampleScale(points, hoods[j * stride], j * stride, layered);
+  std::vector<double> variance, spacing, sample_variance;
+  std::vector<pcl::index_t> sampled;
+  for (std::size_t j = 0; j < m; ++j) {
+    const SampleScale& t = samples[j];
+    if (t.has_spacing)
+      spacing.push_back(t.spacing);
+    if (t.has_variance)
+      variance.push_back(t.variance);
+    if (t.spans) {
+      sampled.push_back(static_cast<pcl::index_t>(j * stride));
+      sample_variance.push_back(t.local_variance);
     }
   }
   DataScale out;
@@ -292,13 +322,13 @@ void estimateScale(SegmentationState& s) {
   // (about half a step): each point's tolerance adds T::step_factor local steps to the tolerance
   // from the noise and spacing.
   s.result.lattice = detectQuantizedAxis(s.points);
-  DataScale scale = dataScale(s.points, s.hoods, s.result.lattice.detected());
+  DataScale scale = dataScale(s.points, s.hoods, s.result.lattice.detected(), s.workers());
   // Levels finer than the noise (depth stored in millimetres under centimetres of noise) are
   // part of it, not a sensor's levels to model: their rounding adds (q / √12)² to the variance.
   if (s.result.lattice.detected() &&
       medianStep(s.result.lattice, s.points) < T::fine_levels * scale.noise) {
     s.result.lattice = QuantizedAxis{};
-    scale = dataScale(s.points, s.hoods, false);
+    scale = dataScale(s.points, s.hoods, false, s.workers());
   }
   s.result.step_factor = s.result.lattice.detected() ? T::step_factor : 0.0;
   // Distances closer than the floor of noise-free data (a twentieth of the spacing) cannot tell
