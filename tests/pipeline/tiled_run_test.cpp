@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -54,6 +55,45 @@ Fields readFields(const std::string& path) {
     }
   }
   return f;
+}
+
+/// The phases of a tiled run's `timing:` lines (name → seconds): those the ranks shared, those
+/// not shared, and what the second line says of the latter (its total, the run's, the percent).
+struct Timing {
+  std::vector<std::pair<std::string, double>> shared, serial;
+  double serial_total = -1.0, run = -1.0, percent = -1.0;
+};
+
+Timing readTiming(const std::string& report) {
+  Timing t;
+  const auto phases = [](const std::string& list) {
+    std::vector<std::pair<std::string, double>> out;
+    std::size_t at = 0;
+    while (at < list.size()) {
+      std::size_t end = list.find(" s", at);
+      if (end == std::string::npos)
+        break;
+      const std::size_t number = list.rfind(' ', end - 1);
+      out.emplace_back(list.substr(at, number - at), std::stod(list.substr(number + 1)));
+      at = end + 2;
+      if (list.compare(at, 2, ", ") == 0)
+        at += 2;
+    }
+    return out;
+  };
+  const std::size_t first = report.find("timing: shared by ");
+  if (first == std::string::npos)
+    return t;
+  const std::size_t colon = report.find(": ", first + 8);
+  const std::size_t eol = report.find('\n', first);
+  t.shared = phases(report.substr(colon + 2, eol - colon - 2));
+  const std::string second = report.substr(eol + 1, report.find('\n', eol + 1) - eol - 1);
+  // "  not shared: 0.31 s of 59.57 s (0.5 %): phase 0.00 s, ..."
+  if (std::sscanf(second.c_str(), "  not shared: %lf s of %lf s (%lf %%)", &t.serial_total, &t.run,
+                  &t.percent) != 3)
+    return t;
+  t.serial = phases(second.substr(second.find("%): ") + 4));
+  return t;
 }
 
 /// A random scene of the scene_sampling stage (all five types, touching and crossing shapes).
@@ -260,6 +300,31 @@ TEST(TiledRun, ARerunResumesAfterTheFinishedTilesWithTheSameOutputs) {
   EXPECT_EQ(slurp(run.out + "/segments.ply"), segments);
   EXPECT_EQ(slurp(run.out + "/primitives.yaml"), report);
   EXPECT_EQ(slurp(run.out + "/segments.png"), picture);
+  // Issue 39: the report says where the time went. The rerun reused its tiles: no tiling among
+  // the phases, but the runs' verification, the two runs and the merge; what was not shared adds
+  // up to the total it states (each printed to 0.01 s), which is that share of the whole run.
+  const Timing timing = readTiming(r.out);
+  std::vector<std::string> shared_names;
+  for (const auto& [name, seconds] : timing.shared)
+    shared_names.push_back(name);
+  EXPECT_EQ(shared_names, (std::vector<std::string>{"verifying tile runs", "tile runs", "merge"}))
+      << r.out;
+  ASSERT_FALSE(timing.serial.empty()) << r.out;
+  EXPECT_EQ(timing.serial.front().first, "work directory");
+  EXPECT_EQ(timing.serial.back().first, "merge: outputs");
+  double serial_sum = 0.0, shared_sum = 0.0;
+  for (const auto& [name, seconds] : timing.serial)
+    serial_sum += seconds;
+  for (const auto& [name, seconds] : timing.shared)
+    shared_sum += seconds;
+  EXPECT_NEAR(serial_sum, timing.serial_total, 0.005 * (timing.serial.size() + 1)) << r.out;
+  EXPECT_NEAR(timing.percent, 100.0 * timing.serial_total / timing.run,
+              0.05 + 100.0 * 0.005 * 2 / std::max(timing.run, 0.01))
+      << r.out;
+  // The phases lie within the run: together they cannot exceed it (each printed to 0.01 s).
+  EXPECT_LE(serial_sum + shared_sum,
+            timing.run + 0.005 * (timing.serial.size() + timing.shared.size() + 1))
+      << r.out;
   // The same config said otherwise (a thread count, a value given again as it is): all reused.
   r = runSlipfit(run.args + " --set threads=1 --set segments.max_angle=30");
   ASSERT_EQ(r.code, 0) << r.err;
