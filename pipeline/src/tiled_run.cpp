@@ -515,8 +515,9 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
   if (work.leader()) {
     try {
       writeAtomically(cache, key + text);
-      // Runs of another config (or another analysis density) are not reused.
-      fingerprint += "\n" + text;
+      // Runs of another config (or another analysis density) are not reused, nor those of a
+      // build whose tiles sampled the noise otherwise.
+      fingerprint += "\n" + text + "noise sampled by the tile's share\n";
       fs::create_directories(runs_dir);
       if (readText(runs_dir + "/config") != fingerprint) {
         claimed->removeRuns();
@@ -598,7 +599,10 @@ std::vector<std::string> runTiled(const PipelineConfig& config,
       tile_config.output.cloud.clear();
       tile_config.tiling.size = 0.0;
       tile_config.settings.threads = tile_threads;
-      dynamic_cast<JoinedAcrossTiles&>(*tile_config.stages.back().stage).forTile();
+      dynamic_cast<JoinedAcrossTiles&>(*tile_config.stages.back().stage)
+          .forTile(
+              std::min(1.0, static_cast<double>(tile.points) /
+                                static_cast<double>(std::max<std::uint64_t>(manifest.points, 1))));
       for (const TileSampling& sampling : samplings) {
         auto& stage = dynamic_cast<SampledAnalysis&>(*tile_config.stages[sampling.stage].stage);
         stage.setSampling(sampling.forTile(stage.sampling(), tile.points, manifest.points));

@@ -105,9 +105,10 @@ class SegmentationStage : public Stage, public JoinedAcrossTiles {
       return std::nullopt;
     return RenderRequest{render_, render_parameters_};
   }
-  void forTile() override {
+  void forTile(double share) override {
     render_.clear();
     las_.clear();
+    parameters_.noise_sample_share = share;
   }
 
   void run(PointData& data, RunContext& context) override {

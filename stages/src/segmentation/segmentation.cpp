@@ -13,6 +13,9 @@ namespace slipfit {
 void SegmentationParameters::validate() const {
   validateDeclared(*this, "segmentation");
   validateThreads(threads, "segmentation");
+  if (!(noise_sample_share > 0.0 && noise_sample_share <= 1.0))
+    throw InvalidParameterError("segmentation: noise_sample_share " +
+                                std::to_string(noise_sample_share) + " is not in (0, 1]");
 }
 
 SegmentationResult segmentBySlippage(const Eigen::Ref<const Eigen::Matrix3Xd>& points,

@@ -33,8 +33,9 @@ class JoinedAcrossTiles {
   /// Its picture as configured; nullopt when it draws none.
   virtual std::optional<RenderRequest> picture() const = 0;
   /// Leaves out what the merge writes for the whole cloud from its joined files (the picture,
-  /// segments.las): a tile's are not the run's.
-  virtual void forTile() = 0;
+  /// segments.las): a tile's are not the run's. \a share: the tile's points over the whole
+  /// cloud's, for what it samples of the whole cloud's (the noise estimate's neighborhoods).
+  virtual void forTile(double share) = 0;
   /// The option of an output it is asked for that a tiled run does not join (a tiled run refuses
   /// the config); empty when there is none.
   virtual std::string unjoinedOutput() const = 0;

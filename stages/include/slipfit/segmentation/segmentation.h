@@ -64,6 +64,12 @@ struct SegmentationParameters {
   /// Not a YAML option: the pipeline sets it from the input, and SlippageSegmentation from its
   /// cloud (organized, or a sensor_origin_ / sensor_orientation_ other than PCL's defaults).
   bool sensor_view = false;
+  /// The cloud's share of a larger one that it is part of (a tile of a tiled run: its points over
+  /// the whole cloud's), in (0, 1]: the noise estimate samples that share of the neighborhoods
+  /// the whole cloud's would (SegmentationTuning::noise_sample, at least least_noise_sample), so
+  /// that a tile samples at the untiled run's density and its local noise pools patches of the
+  /// untiled run's size. Not a YAML option: a tiled run sets it for each tile.
+  double noise_sample_share = 1.0;
 
   /// Each user-facing field with its one declaration (parameter_declaration.h).
   template <typename Self, typename Visit>

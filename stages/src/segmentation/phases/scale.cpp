@@ -167,9 +167,17 @@ SampleScale sampleScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const 
 /// computed on \a workers threads, each into its own slot, and gathered in order: the result does
 /// not depend on the threads.
 DataScale dataScale(const Eigen::Ref<const Eigen::Matrix3Xd>& points, const Neighborhoods& hoods,
-                    bool layered, int workers) {
+                    bool layered, int workers, double share) {
   const std::size_t n = hoods.size();
-  const std::size_t stride = std::max<std::size_t>(1, n / T::noise_sample);
+  // The cloud's share of T::noise_sample (a tile's of the whole cloud's), at least
+  // T::least_noise_sample: the whole cloud's own sampling when share is 1.
+  const std::size_t wanted =
+      share >= 1.0
+          ? T::noise_sample
+          : std::max(
+                T::least_noise_sample,
+                static_cast<std::size_t>(std::ceil(static_cast<double>(T::noise_sample) * share)));
+  const std::size_t stride = std::max<std::size_t>(1, n / wanted);
   const std::size_t m = (n + stride - 1) / stride;
   std::vector<SampleScale> samples(m);
 #pragma omp parallel for schedule(dynamic, 256) num_threads(workers)
@@ -322,13 +330,14 @@ void estimateScale(SegmentationState& s) {
   // (about half a step): each point's tolerance adds T::step_factor local steps to the tolerance
   // from the noise and spacing.
   s.result.lattice = detectQuantizedAxis(s.points);
-  DataScale scale = dataScale(s.points, s.hoods, s.result.lattice.detected(), s.workers());
+  DataScale scale = dataScale(s.points, s.hoods, s.result.lattice.detected(), s.workers(),
+                              s.parameters.noise_sample_share);
   // Levels finer than the noise (depth stored in millimetres under centimetres of noise) are
   // part of it, not a sensor's levels to model: their rounding adds (q / √12)² to the variance.
   if (s.result.lattice.detected() &&
       medianStep(s.result.lattice, s.points) < T::fine_levels * scale.noise) {
     s.result.lattice = QuantizedAxis{};
-    scale = dataScale(s.points, s.hoods, false, s.workers());
+    scale = dataScale(s.points, s.hoods, false, s.workers(), s.parameters.noise_sample_share);
   }
   s.result.step_factor = s.result.lattice.detected() ? T::step_factor : 0.0;
   // Distances closer than the floor of noise-free data (a twentieth of the spacing) cannot tell
