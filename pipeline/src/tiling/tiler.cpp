@@ -124,9 +124,9 @@ std::string packCounts(const std::map<TileKey, Count>& counts) {
   }
   return bytes;
 }
+/// Reads what packCounts wrote from \a in, up to its end.
 template <typename Count, typename Add>
-void addCounts(const std::string& bytes, std::map<TileKey, Count>& counts, Add&& add) {
-  Unpack in(bytes);
+void addCounts(Unpack& in, std::map<TileKey, Count>& counts, Add&& add) {
   while (!in.done()) {
     TileKey key;
     key.i = in.next<std::int64_t>();
@@ -355,12 +355,11 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
       all_points += u.next<std::uint64_t>();
       all_dropped += u.next<std::uint64_t>();
       too_many = u.next<bool>() || too_many;
-      addCounts(theirs.substr(6 * sizeof(double) + 2 * sizeof(std::uint64_t) + sizeof(bool)), tiles,
-                [](const TileKey&, TileInfo& sum, const TileInfo& add) {
-                  sum.key = add.key;
-                  sum.points += add.points;
-                  sum.core += add.core;
-                });
+      addCounts(u, tiles, [](const TileKey&, TileInfo& sum, const TileInfo& add) {
+        sum.key = add.key;
+        sum.points += add.points;
+        sum.core += add.core;
+      });
     }
     too_many = too_many || tiles.size() > 4 * kMostTiles;
     if (extent)
@@ -400,9 +399,11 @@ TilingManifest writeTiles(const std::string& input, NanPolicy nan, const TileGri
         }
       });
       std::map<TileKey, std::uint64_t> cores;
-      for (const std::string& theirs : share.gather(packCounts(counted)))
-        addCounts(theirs, cores,
+      for (const std::string& theirs : share.gather(packCounts(counted))) {
+        Unpack u(theirs);
+        addCounts(u, cores,
                   [](const TileKey&, std::uint64_t& sum, std::uint64_t add) { sum += add; });
+      }
       std::map<TileKey, std::uint64_t> next;
       for (const auto& [leaf, points] : over) {
         const int to = deepest(leaf);
